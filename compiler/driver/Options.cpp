@@ -1,0 +1,50 @@
+#include "Options.h"
+
+#include <CLI/CLI.hpp>
+
+namespace ldae::driver {
+
+void defineOptions(CLI::App &app, Options &o) {
+  app.description(
+      "ldaec: compiler for implicit differential systems written in lsd.\n"
+      "Finds hidden constraints (any index), reduces the model, compiles it\n"
+      "with LLVM and integrates it with SUNDIALS IDA.");
+  app.add_option("model", o.input, "the .lsd file to compile")->required();
+  app.add_option("--model", o.modelName,
+                 "the model to compile (default: the last non-partial model)");
+  app.add_option("--param", o.paramOverrides,
+                 "override a parameter: --param name=value (repeatable)");
+
+  app.add_flag("--analyze", o.analyze,
+               "structural analysis report: index, states, dummies, DOF");
+  app.add_flag("--json", o.json, "with --analyze: the report as JSON");
+  app.add_flag("--simulate", o.simulate, "integrate the model, write CSV");
+  app.add_option("--emit", o.emit, "print an intermediate form")
+      ->check(CLI::IsMember({"flat", "reduced", "llvm", "c"}));
+  app.add_flag("--main", o.emitMain,
+               "with --emit c: add a main() that integrates with IDA");
+  app.add_option("-o,--output", o.outputFile, "output file (default stdout)");
+
+  app.add_option("--start", o.startTime, "start time");
+  app.add_option("--stop", o.stopTime, "stop time");
+  app.add_option("--rtol", o.rtol, "relative tolerance");
+  app.add_option("--atol", o.atol, "absolute tolerance (scaled by nominal)");
+  app.add_option("--interval", o.interval, "output interval");
+  app.add_flag("--every-step", o.everyStep, "output at every solver step");
+  app.add_option("--method", o.method, "integration method")
+      ->check(CLI::IsMember({"dd", "sga", "ode", "raw"}));
+  app.add_option("--outputs", o.outputs,
+                 "comma-separated variables to output (compiles only what "
+                 "they need)");
+  app.add_option("--plot", o.plotFile, "plot the outputs to .svg or .png");
+  app.add_flag("--stats", o.stats, "print solver statistics");
+  app.add_flag("--no-progress", o.noProgress, "never show a progress bar");
+  app.add_option("--jit", o.jit, "on: LLVM JIT; off: the interpreter")
+      ->check(CLI::IsMember({"on", "off"}));
+
+  app.add_flag("--time-passes", o.timePasses, "time every stage and pass");
+  app.add_option("--print-after", o.printAfter,
+                 "print the model after the named pass (repeatable)");
+}
+
+} // namespace ldae::driver

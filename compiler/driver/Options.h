@@ -1,0 +1,39 @@
+// The `ldaec` command line: every option, parsed by CLI11 into one struct.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace ldae::driver {
+
+struct Options {
+  std::string input;                      // model.lsd
+  std::string modelName;                  // --model
+  std::vector<std::string> paramOverrides;// --param name=value
+  bool analyze = false;                   // --analyze
+  bool json = false;                      // --json
+  bool simulate = false;                  // --simulate
+  std::string emit;                       // --emit flat|reduced|llvm|c
+  bool emitMain = false;                  // --main (with --emit c)
+  std::string outputFile;                 // -o
+  std::optional<double> startTime, stopTime, rtol, atol, interval;
+  std::string method = "dd";              // --method dd|sga|ode|raw
+  std::string outputs;                    // --outputs x,y
+  std::string plotFile;                   // --plot out.svg|png
+  bool stats = false;                     // --stats
+  bool everyStep = false;                 // --every-step
+  std::string jit = "on";                 // --jit on|off
+  bool timePasses = false;                // --time-passes
+  std::vector<std::string> printAfter;    // --print-after PASS
+  bool noProgress = false;                // --no-progress
+};
+
+/// Declares every option on `app`, writing into `opts`.
+void defineOptions(CLI::App &app, Options &opts);
+
+} // namespace ldae::driver

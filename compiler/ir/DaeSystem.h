@@ -1,0 +1,73 @@
+// The index-1 system handed to code generation: what the runtime integrates.
+// Produced by the pass pipeline from a Model (after alias elimination, index
+// reduction and dummy derivatives); consumed by the LLVM emitter, the C
+// emitter and the interpreter alike, which all fill the same C ABI
+// (runtime/include/ldae/model.h).
+//
+// Layout rule. The unknown vector y holds `unknowns[i]`, each standing for
+// the IR node Variable(var, order). In residuals:
+//   Variable(var, order)       of unknowns[i]           reads y[i]
+//   Variable(var, order + 1)   of a differential unknown reads y'[i]
+// A dummy derivative is an algebraic unknown with order >= 1 (it stands for
+// der(x) itself); the variable it differentiates is then algebraic too.
+#pragma once
+
+#include "ir/Model.h"
+
+#include <string>
+#include <vector>
+
+namespace ldae::ir {
+
+struct SystemUnknown {
+  VarKey key;          // the IR node Variable(key) this slot holds
+  std::string name;    // `x`, `der(x)` for a dummy derivative
+  bool differential = false;
+  double start = 0;    // start value of y[i]
+  double startDerivative = 0; // start value of y'[i]
+  double nominal = 1;
+  bool fixed = false;  // start value is a condition (fixed = true)
+  SourceLoc loc;
+};
+
+/// One choice of states for dynamic state selection: its own residuals and
+/// differential flags over the same unknown layout.
+struct StateSet {
+  std::vector<ExprRef> residuals;  // size n
+  std::vector<bool> differential;  // size n
+  /// m×m matrix (column-major) whose conditioning tells how well this set
+  /// fits: the Jacobian of the differentiated constraints w.r.t. the
+  /// derivatives this set makes dummies. Empty for a static set.
+  unsigned pivotSize = 0;
+  std::vector<ExprRef> pivot;
+  std::vector<std::string> states; // names, for reports
+};
+
+/// A reported variable computed from the unknowns (aliases, solved-out).
+struct SystemOutput {
+  std::string name;
+  ExprRef value = nullptr; // over y, y' as the layout rule says
+};
+
+struct DaeSystem {
+  std::shared_ptr<ExprContext> ctx;
+  const Model *model = nullptr; // names, parameters, locations
+  std::vector<SystemUnknown> unknowns;
+  /// State sets; stateSets[0] is the initial choice. Always at least one.
+  std::vector<StateSet> stateSets;
+  /// Conditions that must hold only at the start (initial equations),
+  /// over y and y'.
+  std::vector<ExprRef> initialResiduals;
+  /// Constraints of the original model the reduced one must keep
+  /// (their largest residual is reported as drift).
+  std::vector<ExprRef> constraints;
+  /// Root functions for events (when-conditions, if-switches).
+  std::vector<ExprRef> roots;
+  std::vector<SystemOutput> outputs;
+  /// Source location of the equation behind each residual row.
+  std::vector<SourceLoc> residualLocs;
+  std::vector<double> parameterValues;
+  std::vector<std::string> parameterNames;
+};
+
+} // namespace ldae::ir

@@ -1,0 +1,129 @@
+// A flat model: scalar variables and parameters, and equations `residual = 0`
+// over one expression DAG. The frontend produces it; passes transform it;
+// every variable and equation keeps where the user wrote it.
+#pragma once
+
+#include "ir/ExprContext.h"
+#include "ir/Print.h"
+#include "support/SourceManager.h"
+
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace ldae::ir {
+
+enum class StateSelect { Never, Avoid, Default, Prefer, Always };
+const char *stateSelectName(StateSelect s); // "never", ... as in lsd
+
+/// A scalar unknown. Its derivatives are Variable nodes of higher order.
+struct Variable {
+  std::string name;      // flat name as the user sees it: `x`, `r1.v`, `m[2].s`
+  std::string component; // component path it came from ("" at top level)
+  SourceLoc loc;         // its declaration
+  double start = 0;
+  bool hasStart = false;
+  bool fixed = false;
+  double nominal = 1;
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  StateSelect stateSelect = StateSelect::Default;
+  std::string unit;
+  bool isInput = false;
+  bool isOutput = false;
+  bool isDiscrete = false; // Integer/Boolean variables, changed only at events
+};
+
+/// A parameter or constant: a value fixed for a run.
+struct Parameter {
+  std::string name;
+  std::string component;
+  SourceLoc loc;
+  double value = 0;
+  bool isConstant = false; // `constant`: cannot be overridden
+  bool isInteger = false;
+  bool isBoolean = false;
+};
+
+/// Where an equation came from, for messages and for alias elimination.
+enum class EquationOrigin {
+  Declared,       // written in an equation section
+  Binding,        // `Real e = expr;` declaration binding
+  Connection,     // potential equality of a connection set
+  FlowSum,        // flows of a connection set sum to zero
+  UnconnectedFlow,// a flow of a connector nobody connected is zero
+  Initial,        // an `initial equation`
+  Differentiated, // made by index reduction from `parent`
+};
+
+struct Equation {
+  ExprRef residual = nullptr; // the equation is residual = 0 (lhs - rhs)
+  SourceLoc loc;              // the equation (or declaration) in the source
+  std::string component;      // component path it came from
+  EquationOrigin origin = EquationOrigin::Declared;
+  std::string text;           // the source text as written, for messages
+};
+
+/// `reinit(v, value)` inside a when-clause.
+struct Reinit {
+  VarId var = 0;
+  ExprRef value = nullptr;
+  SourceLoc loc;
+};
+
+/// `when condition then ... end when;`: kept on the model for the event stage.
+struct WhenClause {
+  ExprRef condition = nullptr; // fires when it turns from 0 to 1
+  SourceLoc loc;
+  std::vector<Reinit> reinits;
+  std::vector<Equation> equations; // discrete assignments `v = expr`
+};
+
+/// The `experiment` annotation; unset fields take the driver's defaults.
+struct Experiment {
+  std::optional<double> startTime, stopTime, tolerance, interval;
+};
+
+class Model : public NameResolver {
+public:
+  explicit Model(std::shared_ptr<ExprContext> ctx = std::make_shared<ExprContext>())
+      : ctx_(std::move(ctx)) {}
+
+  ExprContext &ctx() const { return *ctx_; }
+  std::shared_ptr<ExprContext> sharedCtx() const { return ctx_; }
+
+  std::string name;
+  SourceLoc loc;
+  std::vector<Variable> variables;
+  std::vector<Parameter> parameters;
+  std::vector<Equation> equations;
+  std::vector<Equation> initialEquations;
+  std::vector<WhenClause> whenClauses;
+  Experiment experiment;
+
+  VarId addVariable(Variable v);
+  ParamId addParameter(Parameter p);
+  std::optional<VarId> findVariable(const std::string &name) const;
+  std::optional<ParamId> findParameter(const std::string &name) const;
+  /// Current parameter values, indexed by ParamId.
+  std::vector<double> parameterValues() const;
+
+  /// The user's spelling of Variable(key): `x`, `der(x)`, `der(x, 2)`.
+  std::string variableName(VarKey key) const;
+  // NameResolver
+  std::string variableName(VarId v) const override;
+  std::string parameterName(ParamId p) const override;
+
+  /// Prints the whole model as lsd (the `--emit flat` format).
+  std::string print() const;
+
+private:
+  std::shared_ptr<ExprContext> ctx_;
+  std::unordered_map<std::string, VarId> varIndex_;
+  std::unordered_map<std::string, ParamId> paramIndex_;
+};
+
+} // namespace ldae::ir

@@ -1,0 +1,134 @@
+/* The C ABI of a compiled ldaec model.
+ *
+ * One struct describes a model: sizes, names, start and nominal values,
+ * which unknowns are differential, and function pointers for the residual,
+ * IDA's iteration matrix, roots, and the geometric method's slots. The LLVM
+ * JIT, the interpreter and the emitted C file all fill this same struct; the
+ * runtime (IDA/CVODE drivers) only ever sees this struct.
+ *
+ * Conventions:
+ *  - y, yp, r have length n; p has length n_params.
+ *  - Every function returns 0 on success, a positive value on a recoverable
+ *    failure (a domain error: 1 + the index of the residual row where it
+ *    happened, so messages can name the equation), negative if fatal.
+ *  - Matrices are column-major (dense) or CSC with the fixed pattern given
+ *    in the struct (sparse).
+ *  - Plain C99; no dependency beyond the C standard library.
+ */
+#ifndef LDAE_MODEL_H
+#define LDAE_MODEL_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LDAE_ABI_VERSION 1
+
+/* r = F(t, y, y', p) */
+typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
+                                const double *p, double *r);
+/* J = dF/dy + cj * dF/dy'; dense n*n column-major. */
+typedef int (*ldae_jacobian_dense_fn)(double t, const double *y,
+                                      const double *yp, const double *p,
+                                      double cj, double *J);
+/* The nonzeros of dF/dy + cj * dF/dy' in the struct's CSC pattern order. */
+typedef int (*ldae_jacobian_csc_fn)(double t, const double *y,
+                                    const double *yp, const double *p,
+                                    double cj, double *values);
+/* g = root functions at (t, y, y'); events happen where a component
+   changes sign. */
+typedef int (*ldae_roots_fn)(double t, const double *y, const double *yp,
+                             const double *p, double *g);
+/* out = reported variables (see output_names) from (t, y, y'). */
+typedef int (*ldae_outputs_fn)(double t, const double *y, const double *yp,
+                               const double *p, double *out);
+/* Initialization: r = extra conditions at the start (initial equations),
+   and their Jacobians w.r.t. y and y' (dense, n_init x n, column-major). */
+typedef int (*ldae_init_residual_fn)(double t, const double *y,
+                                     const double *yp, const double *p,
+                                     double *r);
+typedef int (*ldae_init_jacobian_fn)(double t, const double *y,
+                                     const double *yp, const double *p,
+                                     double *Jy, double *Jyp);
+/* Pivot matrix of a state set (m x m, column-major) at (t, y). */
+typedef int (*ldae_pivot_fn)(double t, const double *y, const double *yp,
+                             const double *p, double *M);
+/* Geometric-method slots (filled by the SGA stage; NULL until then):
+   x' = f(t, x, p) on the final constraint manifold; c(t, x, p) = 0 its
+   constraints; Jc = dc/dx (n_constraints x n_ode, column-major). */
+typedef int (*ldae_ode_rhs_fn)(double t, const double *x, const double *p,
+                               double *xdot);
+typedef int (*ldae_constraints_fn)(double t, const double *x, const double *p,
+                                   double *c);
+typedef int (*ldae_constraint_jacobian_fn)(double t, const double *x,
+                                           const double *p, double *Jc);
+
+/* One choice of states for dynamic state selection. All sets share the
+   unknown layout; they differ in residuals and differential flags. */
+typedef struct ldae_state_set {
+  const int *is_differential;          /* n: 1 differential, 0 algebraic */
+  ldae_residual_fn residual;
+  ldae_jacobian_dense_fn jacobian_dense;
+  ldae_jacobian_csc_fn jacobian_csc;   /* pattern: jac_colptr/jac_rowind */
+  int jac_nnz;
+  const int *jac_colptr;               /* n + 1 */
+  const int *jac_rowind;               /* jac_nnz */
+  int pivot_size;                      /* m; 0 for a static set */
+  ldae_pivot_fn pivot;
+  const char *description;             /* e.g. "states: y, der(y)" */
+} ldae_state_set;
+
+typedef struct ldae_model {
+  int abi_version;                     /* LDAE_ABI_VERSION */
+  const char *name;
+
+  int n;                               /* unknowns */
+  const char *const *var_names;        /* n */
+  const double *start_y;               /* n */
+  const double *start_yp;              /* n */
+  const double *nominal;               /* n, > 0 */
+  const int *fixed;                    /* n: start value is a condition */
+
+  int n_params;
+  const char *const *param_names;      /* n_params */
+  const double *param_values;          /* n_params: defaults */
+
+  int n_state_sets;                    /* >= 1; state_sets[0] is the start */
+  const ldae_state_set *state_sets;
+
+  int n_init;                          /* extra initial conditions */
+  ldae_init_residual_fn init_residual;
+  ldae_init_jacobian_fn init_jacobian;
+
+  int n_roots;
+  ldae_roots_fn roots;
+
+  int n_outputs;                       /* reported columns after `time` */
+  const char *const *output_names;
+  ldae_outputs_fn outputs;
+
+  /* Constraints of the original model kept by the reduced one; their
+     largest residual is reported as drift (n_drift may be 0). */
+  int n_drift;
+  ldae_residual_fn drift;              /* writes n_drift values */
+
+  /* Geometric method (SGA) slots: NULL / 0 until that stage fills them. */
+  int n_ode;
+  int n_constraints;
+  ldae_ode_rhs_fn ode_rhs;
+  ldae_constraints_fn constraints;
+  ldae_constraint_jacobian_fn constraint_jacobian;
+
+  /* Source location of the equation behind each residual row (n), for
+     failure messages: "file:line". May be NULL. */
+  const char *const *residual_origin;
+
+  /* Simulation defaults from the experiment annotation (NaN when unset). */
+  double start_time, stop_time, tolerance, interval;
+} ldae_model;
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LDAE_MODEL_H */

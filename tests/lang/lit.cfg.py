@@ -1,0 +1,17 @@
+# lit configuration of the language suite: every .lsd file under tests/lang
+# is a test with `// RUN:` lines, checked with FileCheck.
+import os
+import lit.formats
+
+config.name = "ldaec-lang"
+config.test_format = lit.formats.ShTest(execute_external=False)
+config.suffixes = [".lsd"]
+config.excludes = ["Inputs"]
+config.test_source_root = os.path.dirname(__file__)
+config.test_exec_root = os.path.join(config.ldaec_obj_root, "tests", "lang")
+
+config.environment["PATH"] = os.pathsep.join(
+    [config.ldaec_bin_dir, config.ldaec_tools_dir, config.environment.get("PATH", "")])
+config.substitutions.append(("%ldaec", os.path.join(config.ldaec_bin_dir, "ldaec")))
+config.substitutions.append(("%stdlib", os.path.join(config.ldaec_src_root, "stdlib")))
+config.substitutions.append(("%examples", os.path.join(config.ldaec_src_root, "examples")))
