@@ -127,6 +127,12 @@ typedef struct ldae_model {
   double start_time, stop_time, tolerance, interval;
 } ldae_model;
 
+/* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobian
+   (state_sets[i].jacobian_dense, filled by every code generator); above it
+   jacobian_dense is NULL and the runtime uses jacobian_csc with KLU. The
+   CSC pattern and function are always present. */
+#define LDAE_DENSE_THRESHOLD 32
+
 #ifdef __cplusplus
 }
 #endif
