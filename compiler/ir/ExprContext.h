@@ -60,9 +60,19 @@ public:
   /// Bytes held by the node arena (for benchmarks).
   size_t memoryBytes() const;
 
+  /// True if `e` is finite and free of domain errors for every finite value
+  /// of its leaves (ignoring overflow): the condition under which `0*e`,
+  /// `e^0` and cancelled terms may be dropped. See docs/ir.md.
+  bool isTotal(ExprRef e) const;
+
 private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+
+  /// Finds or creates the node with these fields; operands are copied into
+  /// the arena. The only place nodes are made.
+  ExprRef intern(ExprKind kind, uint8_t sub, uint32_t index, uint16_t order,
+                 double value, std::span<const ExprRef> ops);
 };
 
 } // namespace ldae::ir

@@ -35,6 +35,8 @@ struct Variable {
   bool isInput = false;
   bool isOutput = false;
   bool isDiscrete = false; // Integer/Boolean variables, changed only at events
+  bool isInteger = false;  // declared Integer (printed as such)
+  bool isBoolean = false;  // declared Boolean (printed as such)
 };
 
 /// A parameter or constant: a value fixed for a run.
@@ -111,7 +113,7 @@ public:
   /// Current parameter values, indexed by ParamId.
   std::vector<double> parameterValues() const;
 
-  /// The user's spelling of Variable(key): `x`, `der(x)`, `der(x, 2)`.
+  /// The user's spelling of Variable(key): `x`, `der(x)`, `der(der(x))`.
   std::string variableName(VarKey key) const;
   // NameResolver
   std::string variableName(VarId v) const override;

@@ -3,7 +3,7 @@
 // form showing the DAG's node ids.
 #pragma once
 
-#include "ir/Expr.h"
+#include "ir/ExprContext.h"
 
 #include <string>
 
@@ -17,9 +17,22 @@ public:
   virtual std::string parameterName(ParamId p) const = 0;
 };
 
-/// lsd syntax: `der(x)`, `der(x, 2)`, `pre(v)`, `time`, names from `names`
-/// (or `v3`, `p2` when null). Constants print with 17 significant digits.
+/// lsd syntax: `der(x)`, `der(der(x))`, `pre(v)`, `time`, names from `names`
+/// (or `v3`, `p2` when null; quoted when not identifiers). Constants print
+/// with the shortest digits that read back exactly.
 std::string printLsd(ExprRef e, const NameResolver *names = nullptr);
+/// printLsd cut to about `maxChars` characters (ending in `...`): for
+/// messages about subexpressions of large, heavily shared DAGs.
+std::string printLsdBrief(ExprRef e, const NameResolver *names = nullptr,
+                          size_t maxChars = 160);
+/// `name` as an lsd identifier: unchanged when it is one, else quoted
+/// Modelica-style (`'r1.v'`, `'m[2].s'`).
+std::string printIdentifier(const std::string &name);
+/// The equation `residual = 0` as `lhs = rhs`: terms with a negative sign
+/// move to the right (`der(x) = v` for der(x) - v), the constant too; when
+/// nothing is left on a side it prints `0`. lhs - rhs rebuilds `residual`.
+std::string printEquation(ExprContext &ctx, ExprRef residual,
+                          const NameResolver *names = nullptr);
 /// Compact debug form, e.g. `(+ #3 (* -1 #5))` with node ids.
 std::string printDebug(ExprRef e, const NameResolver *names = nullptr);
 /// A double as lsd prints it: shortest text that reads back exactly.

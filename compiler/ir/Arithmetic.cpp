@@ -1,0 +1,268 @@
+// The simplifying arithmetic builders of ExprContext: sums, products and
+// powers. Each result is in canonical form (flattened, like terms and like
+// powers collected, constants folded, operands ordered by creation id with
+// the constant first) and equals the input wherever the input is defined;
+// docs/ir.md lists the rules and why each one is safe.
+#include "ExprContextImpl.h"
+
+#include <algorithm>
+#include <cassert>
+
+namespace ldae::ir {
+
+namespace {
+
+/// Orders the operands of a sum or product: the constant first, then by id.
+void sortCanonical(std::vector<ExprRef> &ops) {
+  std::sort(ops.begin(), ops.end(), [](ExprRef a, ExprRef b) {
+    if (a->isConstant() != b->isConstant())
+      return a->isConstant();
+    return a->id() < b->id();
+  });
+}
+
+/// Adds up constants in a fixed order (by value), so a permutation of the
+/// operands folds to the same bits.
+double foldSum(std::vector<double> &values) {
+  std::sort(values.begin(), values.end());
+  double s = 0;
+  for (double v : values)
+    s += v;
+  return s;
+}
+
+double foldProduct(std::vector<double> &values) {
+  std::sort(values.begin(), values.end());
+  double p = 1;
+  for (double v : values)
+    p *= v;
+  return p;
+}
+
+/// Appends the operands of `e` if it is a small node of `kind`, else `e`.
+void flattenInto(ExprKind kind, ExprRef e, std::vector<ExprRef> &out) {
+  if (e->kind() == kind && e->numOperands() <= kFlattenLimit)
+    out.insert(out.end(), e->operands().begin(), e->operands().end());
+  else
+    out.push_back(e);
+}
+
+} // namespace
+
+ExprRef ExprContext::add(std::span<const ExprRef> terms) {
+  std::vector<ExprRef> flat;
+  flat.reserve(terms.size() + 4);
+  for (ExprRef t : terms)
+    flattenInto(ExprKind::Add, t, flat);
+
+  // Split every term into coefficient * rest and collect like terms.
+  std::vector<double> constants;
+  struct Term {
+    ExprRef rest;
+    double coef;
+  };
+  std::vector<Term> items;
+  items.reserve(flat.size());
+  for (ExprRef t : flat) {
+    if (t->isConstant()) {
+      constants.push_back(t->constant());
+    } else if (t->kind() == ExprKind::Mul && t->operand(0)->isConstant()) {
+      auto rest = t->operands().subspan(1);
+      items.push_back(
+          {rest.size() == 1 ? rest[0] : intern(ExprKind::Mul, 0, 0, 0, 0, rest),
+           t->operand(0)->constant()});
+    } else {
+      items.push_back({t, 1.0});
+    }
+  }
+  std::sort(items.begin(), items.end(), [](const Term &a, const Term &b) {
+    return a.rest->id() != b.rest->id() ? a.rest->id() < b.rest->id()
+                                        : a.coef < b.coef;
+  });
+
+  std::vector<ExprRef> out;
+  out.reserve(items.size() + 1);
+  for (size_t i = 0; i < items.size();) {
+    size_t j = i;
+    double coef = 0;
+    for (; j < items.size() && items[j].rest == items[i].rest; ++j)
+      coef += items[j].coef;
+    ExprRef rest = items[i].rest;
+    if (j - i == 1 && coef == 1.0) {
+      out.push_back(rest);
+    } else if (!std::isfinite(coef)) {
+      // The coefficients overflowed: keep the terms as they were.
+      for (size_t k = i; k < j; ++k)
+        out.push_back(mul(constant(items[k].coef), rest));
+    } else {
+      // A term cancels only if it is total (mul keeps `0 * t` otherwise).
+      ExprRef term = mul(constant(coef), rest);
+      if (!term->isConstant(0))
+        out.push_back(term);
+    }
+    i = j;
+  }
+
+  if (!constants.empty()) {
+    double c = foldSum(constants);
+    if (!std::isfinite(c)) {
+      for (double v : constants)
+        out.push_back(constant(v));
+    } else if (c != 0) {
+      out.push_back(constant(c));
+    }
+  }
+  if (out.empty())
+    return zero();
+  if (out.size() == 1)
+    return out[0];
+  sortCanonical(out);
+  return intern(ExprKind::Add, 0, 0, 0, 0, out);
+}
+
+ExprRef ExprContext::add(ExprRef a, ExprRef b) {
+  ExprRef ops[] = {a, b};
+  return add(ops);
+}
+
+ExprRef ExprContext::sub(ExprRef a, ExprRef b) { return add(a, neg(b)); }
+
+ExprRef ExprContext::neg(ExprRef a) { return mul(constant(-1.0), a); }
+
+ExprRef ExprContext::mul(std::span<const ExprRef> factors) {
+  std::vector<ExprRef> flat;
+  flat.reserve(factors.size() + 4);
+  for (ExprRef f : factors)
+    flattenInto(ExprKind::Mul, f, flat);
+
+  // Split every factor into base ^ integer exponent; anything else is its
+  // own base with exponent 1.
+  std::vector<double> constants;
+  struct Factor {
+    ExprRef base;
+    double exponent;
+  };
+  std::vector<Factor> items;
+  items.reserve(flat.size());
+  for (ExprRef f : flat) {
+    if (f->isConstant())
+      constants.push_back(f->constant());
+    else if (f->kind() == ExprKind::Pow && f->operand(1)->isConstant() &&
+             isIntegral(f->operand(1)->constant()))
+      items.push_back({f->operand(0), f->operand(1)->constant()});
+    else
+      items.push_back({f, 1.0});
+  }
+  std::sort(items.begin(), items.end(), [](const Factor &a, const Factor &b) {
+    return a.base->id() != b.base->id() ? a.base->id() < b.base->id()
+                                        : a.exponent < b.exponent;
+  });
+
+  // Like bases: exponents of one sign are added (x*x = x^2, x^-1*x^-2 =
+  // x^-3); a positive and a negative power are never merged, since that
+  // would remove a division by zero (x/x stays x/x).
+  std::vector<ExprRef> out;
+  out.reserve(items.size() + 1);
+  auto emit = [&](ExprRef base, double exponent) {
+    ExprRef f = pow(base, constant(exponent));
+    if (f->isConstant())
+      constants.push_back(f->constant());
+    else
+      out.push_back(f);
+  };
+  for (size_t i = 0; i < items.size();) {
+    double positive = 0, negative = 0;
+    size_t j = i;
+    for (; j < items.size() && items[j].base == items[i].base; ++j)
+      (items[j].exponent > 0 ? positive : negative) += items[j].exponent;
+    if (positive != 0)
+      emit(items[i].base, positive);
+    if (negative != 0)
+      emit(items[i].base, negative);
+    i = j;
+  }
+
+  double coef = 1;
+  if (!constants.empty()) {
+    coef = foldProduct(constants);
+    if (!std::isfinite(coef)) {
+      for (double v : constants)
+        out.push_back(constant(v));
+      coef = 1;
+    }
+  }
+  if (coef == 0) {
+    bool allTotal = std::all_of(out.begin(), out.end(),
+                                [&](ExprRef f) { return isTotal(f); });
+    if (allTotal)
+      return zero();
+  }
+  if (out.empty())
+    return constant(coef);
+  if (out.size() == 1) {
+    if (coef == 1)
+      return out[0];
+    // A number times a small sum is distributed: -(a + b) = -a - b, so a
+    // sum and its negation cancel term by term.
+    ExprRef s = out[0];
+    if (s->kind() == ExprKind::Add && s->numOperands() <= kFlattenLimit &&
+        coef != 0) {
+      std::vector<ExprRef> terms;
+      terms.reserve(s->numOperands());
+      ExprRef c = constant(coef);
+      for (ExprRef t : s->operands())
+        terms.push_back(mul(c, t));
+      return add(terms);
+    }
+  }
+  if (coef != 1)
+    out.push_back(constant(coef));
+  sortCanonical(out);
+  return intern(ExprKind::Mul, 0, 0, 0, 0, out);
+}
+
+ExprRef ExprContext::mul(ExprRef a, ExprRef b) {
+  ExprRef ops[] = {a, b};
+  return mul(ops);
+}
+
+ExprRef ExprContext::div(ExprRef a, ExprRef b) {
+  return mul(a, pow(b, constant(-1.0)));
+}
+
+ExprRef ExprContext::pow(ExprRef base, ExprRef exponent) {
+  if (base->isConstant() && exponent->isConstant()) {
+    double b = base->constant(), e = exponent->constant();
+    bool domainError = (b == 0 && e < 0) || (b < 0 && !isIntegral(e));
+    if (!domainError) {
+      double r = std::pow(b, e);
+      if (std::isfinite(r))
+        return constant(r);
+    }
+  }
+  if (exponent->isConstant()) {
+    double e = exponent->constant();
+    if (e == 1)
+      return base;
+    if (e == 0 && isTotal(base))
+      return one();
+    if (base->isConstant(0) && e > 0)
+      return zero();
+    // (x^a)^b = x^(a*b) for integer b when both sides have the same domain:
+    // x = 0 is excluded on both sides (a > 0 or b > 0), and x < 0 on both
+    // sides when a is not an integer (then a*b must not be one either).
+    if (base->kind() == ExprKind::Pow && base->operand(1)->isConstant() &&
+        isIntegral(e)) {
+      double a = base->operand(1)->constant();
+      double ab = a * e;
+      if ((a > 0 || e > 0) && (isIntegral(a) || !isIntegral(ab)))
+        return pow(base->operand(0), constant(ab));
+    }
+  }
+  if (base->isConstant(1) && isTotal(exponent))
+    return one();
+  ExprRef ops[] = {base, exponent};
+  return intern(ExprKind::Pow, 0, 0, 0, 0, ops);
+}
+
+} // namespace ldae::ir

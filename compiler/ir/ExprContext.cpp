@@ -1,0 +1,143 @@
+// Node creation and uniquing (hash-consing) for ExprContext, the leaf
+// builders, and the per-node totality fact the simplifier relies on. The
+// simplifying builders live in Arithmetic.cpp and Logic.cpp.
+#include "ExprContextImpl.h"
+
+#include <cassert>
+#include <new>
+
+namespace ldae::ir {
+
+namespace {
+
+size_t mix(size_t h, size_t v) {
+  // 64-bit hash combine (boost-style with a better multiplier).
+  h ^= v + 0x9e3779b97f4a7c15ull + (h << 12) + (h >> 4);
+  return h * 0xff51afd7ed558ccdull;
+}
+
+/// See ExprContext::isTotal: finite and defined for all finite leaves.
+bool computeTotal(ExprRef e, const std::vector<uint8_t> &total) {
+  auto opsTotal = [&] {
+    for (ExprRef op : e->operands())
+      if (!total[op->id()])
+        return false;
+    return true;
+  };
+  switch (e->kind()) {
+  case ExprKind::Constant:
+    return std::isfinite(e->constant());
+  case ExprKind::Parameter:
+  case ExprKind::Variable:
+  case ExprKind::Time:
+  case ExprKind::Pre:
+    return true;
+  case ExprKind::Pow: {
+    if (!opsTotal())
+      return false;
+    ExprRef base = e->operand(0), exponent = e->operand(1);
+    return (exponent->isConstant() && isIntegral(exponent->constant()) &&
+            exponent->constant() >= 0) ||
+           (base->isConstant() && base->constant() > 0);
+  }
+  case ExprKind::Call:
+    switch (e->func()) {
+    case FuncKind::Tan:
+    case FuncKind::Asin:
+    case FuncKind::Acos:
+    case FuncKind::Log:
+    case FuncKind::Log10:
+    case FuncKind::Sqrt:
+    case FuncKind::Mod:
+      return false;
+    default:
+      return opsTotal();
+    }
+  default:
+    return opsTotal();
+  }
+}
+
+} // namespace
+
+ExprContext::ExprContext() : impl_(std::make_unique<Impl>()) {
+  impl_->table.reserve(1024);
+}
+
+ExprContext::~ExprContext() = default;
+
+ExprRef ExprContext::intern(ExprKind kind, uint8_t sub, uint32_t index,
+                            uint16_t order, double value,
+                            std::span<const ExprRef> ops) {
+  Expr probe;
+  probe.kind_ = kind;
+  probe.sub_ = sub;
+  probe.index_ = index;
+  probe.order_ = order;
+  probe.value_ = value;
+  probe.numOps_ = static_cast<uint32_t>(ops.size());
+  probe.ops_ = ops.data();
+  size_t h = mix(static_cast<size_t>(kind) << 8 | sub,
+                 static_cast<size_t>(index) << 16 | order);
+  uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  h = mix(h, bits);
+  // Hash operands by creation id, never by address: iteration order of any
+  // hash container keyed by nodes is then reproducible.
+  for (ExprRef op : ops)
+    h = mix(h, op->id());
+  probe.hash_ = h;
+
+  auto it = impl_->table.find(&probe);
+  if (it != impl_->table.end())
+    return *it;
+
+  Impl &im = *impl_;
+  auto *node = new (im.arena.allocate(sizeof(Expr), alignof(Expr))) Expr();
+  *node = probe;
+  if (!ops.empty()) {
+    auto *stored = static_cast<ExprRef *>(
+        im.arena.allocate(ops.size() * sizeof(ExprRef), alignof(ExprRef)));
+    std::copy(ops.begin(), ops.end(), stored);
+    node->ops_ = stored;
+  }
+  assert(im.nodes.size() < UINT32_MAX && "too many expression nodes");
+  node->id_ = static_cast<uint32_t>(im.nodes.size());
+  im.nodes.push_back(node);
+  im.total.push_back(computeTotal(node, im.total));
+  im.table.insert(node);
+  return node;
+}
+
+ExprRef ExprContext::constant(double v) {
+  if (v == 0)
+    v = 0.0; // one zero: -0 and +0 are the same constant
+  return intern(ExprKind::Constant, 0, 0, 0, v, {});
+}
+
+ExprRef ExprContext::param(ParamId p) {
+  return intern(ExprKind::Parameter, 0, p, 0, 0, {});
+}
+
+ExprRef ExprContext::var(VarId v, unsigned order) {
+  assert(order <= UINT16_MAX && "derivative order too high");
+  return intern(ExprKind::Variable, 0, v, static_cast<uint16_t>(order), 0, {});
+}
+
+ExprRef ExprContext::time() {
+  if (!impl_->time)
+    impl_->time = intern(ExprKind::Time, 0, 0, 0, 0, {});
+  return impl_->time;
+}
+
+ExprRef ExprContext::pre(VarId v) {
+  return intern(ExprKind::Pre, 0, v, 0, 0, {});
+}
+
+bool ExprContext::isTotal(ExprRef e) const { return impl_->total[e->id()]; }
+
+size_t ExprContext::size() const { return impl_->nodes.size(); }
+
+size_t ExprContext::memoryBytes() const { return impl_->arena.bytes(); }
+
+} // namespace ldae::ir

@@ -1,0 +1,74 @@
+// Model bookkeeping: adding and finding variables and parameters by name,
+// and the user's spelling of variables and their derivatives.
+#include "ir/Model.h"
+
+#include <cassert>
+
+namespace ldae::ir {
+
+const char *stateSelectName(StateSelect s) {
+  switch (s) {
+  case StateSelect::Never: return "never";
+  case StateSelect::Avoid: return "avoid";
+  case StateSelect::Default: return "default";
+  case StateSelect::Prefer: return "prefer";
+  case StateSelect::Always: return "always";
+  }
+  assert(false && "unknown state selection");
+  return "default";
+}
+
+VarId Model::addVariable(Variable v) {
+  auto id = static_cast<VarId>(variables.size());
+  varIndex_.emplace(v.name, id); // the first declaration keeps the name
+  variables.push_back(std::move(v));
+  return id;
+}
+
+ParamId Model::addParameter(Parameter p) {
+  auto id = static_cast<ParamId>(parameters.size());
+  paramIndex_.emplace(p.name, id);
+  parameters.push_back(std::move(p));
+  return id;
+}
+
+std::optional<VarId> Model::findVariable(const std::string &name) const {
+  auto it = varIndex_.find(name);
+  if (it == varIndex_.end())
+    return std::nullopt;
+  return it->second;
+}
+
+std::optional<ParamId> Model::findParameter(const std::string &name) const {
+  auto it = paramIndex_.find(name);
+  if (it == paramIndex_.end())
+    return std::nullopt;
+  return it->second;
+}
+
+std::vector<double> Model::parameterValues() const {
+  std::vector<double> values;
+  values.reserve(parameters.size());
+  for (const Parameter &p : parameters)
+    values.push_back(p.value);
+  return values;
+}
+
+std::string Model::variableName(VarKey key) const {
+  std::string name = variableName(key.var);
+  for (unsigned k = 0; k < key.order; ++k)
+    name = "der(" + name + ")";
+  return name;
+}
+
+std::string Model::variableName(VarId v) const {
+  assert(v < variables.size() && "unknown variable");
+  return v < variables.size() ? variables[v].name : "v" + std::to_string(v);
+}
+
+std::string Model::parameterName(ParamId p) const {
+  assert(p < parameters.size() && "unknown parameter");
+  return p < parameters.size() ? parameters[p].name : "p" + std::to_string(p);
+}
+
+} // namespace ldae::ir

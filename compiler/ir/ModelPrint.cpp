@@ -1,0 +1,134 @@
+// Model::print: the whole flat model as lsd source (`--emit flat`), which
+// the frontend reads back. Flat names that are not identifiers (`r1.v`,
+// `m[2].s`) are quoted Modelica-style; only non-default attributes print.
+#include "ir/Model.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace ldae::ir {
+
+std::string printEquation(ExprContext &ctx, ExprRef residual,
+                          const NameResolver *names) {
+  auto isNegative = [](ExprRef t) {
+    return (t->isConstant() && t->constant() < 0) ||
+           (t->kind() == ExprKind::Mul && t->operand(0)->isConstant() &&
+            t->operand(0)->constant() < 0);
+  };
+  std::vector<ExprRef> lhs, rhs;
+  std::span<const ExprRef> terms(&residual, 1);
+  if (residual->kind() == ExprKind::Add)
+    terms = residual->operands();
+  for (ExprRef t : terms) {
+    if (isNegative(t) || t->isConstant())
+      rhs.push_back(ctx.neg(t));
+    else
+      lhs.push_back(t);
+  }
+  return printLsd(ctx.add(lhs), names) + " = " + printLsd(ctx.add(rhs), names);
+}
+
+namespace {
+
+std::string boolText(double v) { return v != 0 ? "true" : "false"; }
+
+std::string quoteString(const std::string &s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\')
+      out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string variableDecl(const Variable &v) {
+  std::string type = v.isBoolean   ? "Boolean"
+                     : v.isInteger ? "Integer"
+                     : v.isDiscrete ? "discrete Real"
+                                    : "Real";
+  std::string prefix = v.isInput ? "input " : v.isOutput ? "output " : "";
+  std::vector<std::string> attrs;
+  if (v.hasStart)
+    attrs.push_back("start = " + (v.isBoolean ? boolText(v.start)
+                                              : printNumber(v.start)));
+  if (v.fixed)
+    attrs.push_back("fixed = true");
+  if (v.nominal != 1)
+    attrs.push_back("nominal = " + printNumber(v.nominal));
+  if (v.min != -INFINITY)
+    attrs.push_back("min = " + printNumber(v.min));
+  if (v.max != INFINITY)
+    attrs.push_back("max = " + printNumber(v.max));
+  if (!v.unit.empty())
+    attrs.push_back("unit = " + quoteString(v.unit));
+  if (v.stateSelect != StateSelect::Default)
+    attrs.push_back(std::string("stateSelect = StateSelect.") +
+                    stateSelectName(v.stateSelect));
+  std::string decl = prefix + type + " " + printIdentifier(v.name);
+  if (!attrs.empty()) {
+    decl += '(';
+    for (size_t i = 0; i < attrs.size(); ++i)
+      decl += (i ? ", " : "") + attrs[i];
+    decl += ')';
+  }
+  return decl + ";";
+}
+
+std::string parameterDecl(const Parameter &p) {
+  std::string kind = p.isConstant ? "constant " : "parameter ";
+  std::string type = p.isBoolean ? "Boolean" : p.isInteger ? "Integer" : "Real";
+  std::string value = p.isBoolean ? boolText(p.value) : printNumber(p.value);
+  return kind + type + " " + printIdentifier(p.name) + " = " + value + ";";
+}
+
+} // namespace
+
+std::string Model::print() const {
+  std::ostringstream os;
+  std::string modelName = printIdentifier(name.empty() ? "Model" : name);
+  os << "model " << modelName << "\n";
+  for (const Parameter &p : parameters)
+    os << "  " << parameterDecl(p) << "\n";
+  for (const Variable &v : variables)
+    os << "  " << variableDecl(v) << "\n";
+
+  if (!equations.empty() || !whenClauses.empty())
+    os << "equation\n";
+  for (const Equation &eq : equations)
+    os << "  " << printEquation(ctx(), eq.residual, this) << ";\n";
+  for (const WhenClause &w : whenClauses) {
+    os << "  when " << printLsd(w.condition, this) << " then\n";
+    for (const Reinit &r : w.reinits)
+      os << "    reinit(" << printIdentifier(variableName(r.var)) << ", "
+         << printLsd(r.value, this) << ");\n";
+    for (const Equation &eq : w.equations)
+      os << "    " << printEquation(ctx(), eq.residual, this) << ";\n";
+    os << "  end when;\n";
+  }
+  if (!initialEquations.empty()) {
+    os << "initial equation\n";
+    for (const Equation &eq : initialEquations)
+      os << "  " << printEquation(ctx(), eq.residual, this) << ";\n";
+  }
+
+  std::vector<std::string> exp;
+  auto field = [&](const char *key, const std::optional<double> &v) {
+    if (v)
+      exp.push_back(std::string(key) + " = " + printNumber(*v));
+  };
+  field("StartTime", experiment.startTime);
+  field("StopTime", experiment.stopTime);
+  field("Tolerance", experiment.tolerance);
+  field("Interval", experiment.interval);
+  if (!exp.empty()) {
+    os << "  annotation(experiment(";
+    for (size_t i = 0; i < exp.size(); ++i)
+      os << (i ? ", " : "") << exp[i];
+    os << "));\n";
+  }
+  os << "end " << modelName << ";\n";
+  return os.str();
+}
+
+} // namespace ldae::ir

@@ -1,0 +1,80 @@
+// Substitution of subexpressions and rebuilding of nodes through the
+// simplifying builders.
+#include "ir/Substitute.h"
+#include "Traverse.h"
+
+#include <cassert>
+
+namespace ldae::ir {
+
+ExprRef rebuild(ExprContext &ctx, ExprRef e, std::span<const ExprRef> ops) {
+  switch (e->kind()) {
+  case ExprKind::Constant:
+  case ExprKind::Parameter:
+  case ExprKind::Variable:
+  case ExprKind::Time:
+  case ExprKind::Pre:
+    return e;
+  case ExprKind::Add:
+    return ctx.add(ops);
+  case ExprKind::Mul:
+    return ctx.mul(ops);
+  case ExprKind::Pow:
+    return ctx.pow(ops[0], ops[1]);
+  case ExprKind::Call:
+    return ctx.call(e->func(), ops);
+  case ExprKind::If:
+    return ctx.ifThenElse(ops[0], ops[1], ops[2]);
+  case ExprKind::Compare:
+    return ctx.compare(e->compare(), ops[0], ops[1]);
+  case ExprKind::And:
+    return ctx.logicalAnd(ops);
+  case ExprKind::Or:
+    return ctx.logicalOr(ops);
+  case ExprKind::Not:
+    return ctx.logicalNot(ops[0]);
+  }
+  assert(false && "unknown expression kind");
+  return e;
+}
+
+void Substitution::set(ExprRef from, ExprRef to) {
+  map_[from] = to;
+  memo_.clear(); // earlier results may contain `from`
+}
+
+ExprRef Substitution::apply(ExprRef e) {
+  if (auto it = memo_.find(e); it != memo_.end())
+    return it->second;
+  std::vector<ExprRef> ops;
+  ExprRef roots[] = {e};
+  postOrder(
+      roots,
+      [&](ExprRef n) {
+        if (memo_.count(n))
+          return true;
+        // A replaced node is not entered: its operands do not matter.
+        if (auto it = map_.find(n); it != map_.end()) {
+          memo_.emplace(n, it->second);
+          return true;
+        }
+        return false;
+      },
+      [&](ExprRef n) {
+        ExprRef result = n;
+        if (n->numOperands() != 0) {
+          ops.clear();
+          bool changed = false;
+          for (ExprRef op : n->operands()) {
+            ops.push_back(memo_.at(op));
+            changed = changed || ops.back() != op;
+          }
+          if (changed)
+            result = rebuild(ctx_, n, ops);
+        }
+        memo_.emplace(n, result);
+      });
+  return memo_.at(e);
+}
+
+} // namespace ldae::ir
