@@ -1,0 +1,297 @@
+// Consistent initialization along the jump space (see ConsistentInit.h).
+//
+// One Newton step at the iterate (y, y'): with D = diag(nominal) the
+// unknowns are scaled (y = D u), the pencil is (E D, -F_y D), T its jump
+// space, B an orthonormal basis of the allowed directions (T with the fixed
+// coordinates held; plus the free differential coordinates when initial
+// equations need them). The step solves, in the least-squares minimum-norm
+// sense,
+//   F + F_y D B a + E D du'           = 0   (the equations)
+//   F_y (y' + D du') + E D z_2 + F_t  = 0   (their time derivative, and so
+//   F_y D z_j + E D z_{j+1}           = 0    on, index - 1 levels: the hidden
+//                                            constraints of a higher index)
+//   G + G_y D B a + G_y' D du'        = 0   (initial equations)
+// so the start vector moves only along T, by the smallest step in the
+// nominal-scaled norm within T.
+#include "ConsistentInit.h"
+#include "WongSequence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <ostream>
+
+namespace ldae::runtime {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
+                     const double *yp) {
+  const ldae_model &m = ev.model();
+  const ldae_state_set &s = ev.set(set);
+  int n = ev.n();
+  if (m.n_init > 0)
+    return false;
+  for (int i = 0; i < n; ++i)
+    if (!s.is_differential[i] && m.fixed && m.fixed[i])
+      return false;
+  MatrixXd Fy, E;
+  if (ev.jacobianParts(set, t, y, yp, Fy, E) != 0)
+    return false;
+  // E must vanish on the algebraic columns; [E_d F_a] must be nonsingular.
+  MatrixXd M(n, n);
+  double scale = std::max({1e-300, E.cwiseAbs().maxCoeff(),
+                           n ? Fy.cwiseAbs().maxCoeff() : 0.0});
+  for (int j = 0; j < n; ++j) {
+    const double *nom = m.nominal;
+    double d = nom ? nom[j] : 1.0;
+    if (s.is_differential[j]) {
+      M.col(j) = E.col(j) * d;
+    } else {
+      if (E.col(j).cwiseAbs().maxCoeff() > 1e-14 * scale)
+        return false;
+      M.col(j) = Fy.col(j) * d;
+    }
+  }
+  Eigen::VectorXd sv = M.jacobiSvd().singularValues();
+  return n == 0 || sv(n - 1) > 1e-12 * sv(0);
+}
+
+namespace {
+
+enum class Mode { Jumps, Nearest };
+
+struct StepResult {
+  bool solvable = true; // the linearized conditions have a solution
+  bool converged = false;
+  double residual = 0;  // max scaled residual before the step
+  std::vector<int> badRows;
+  int jumpDim = 0, index = 0;
+  std::string domainError;
+};
+
+class Newton {
+public:
+  Newton(const ModelEval &ev, int set, double t)
+      : ev_(ev), m_(ev.model()), set_(set), t_(t), n_(ev.n()) {
+    D_ = VectorXd::Ones(n_);
+    if (m_.nominal)
+      for (int i = 0; i < n_; ++i)
+        D_(i) = m_.nominal[i];
+  }
+
+  /// One Newton step in place. Fills the result's convergence status.
+  StepResult step(Mode mode, VectorXd &y, VectorXd &yp) {
+    StepResult res;
+    int ni = m_.n_init;
+    VectorXd r(n_), g(ni), rt(n_);
+    if (int rc = ev_.residual(set_, t_, y.data(), yp.data(), r.data())) {
+      res.domainError = rc > 0 ? ev_.describeRow(rc - 1) : "the residual";
+      return res;
+    }
+    MatrixXd Fy, E, Gy(ni, n_), Gyp(ni, n_);
+    if (int rc = ev_.jacobianParts(set_, t_, y.data(), yp.data(), Fy, E)) {
+      res.domainError = rc > 0 ? ev_.describeRow(rc - 1) : "the Jacobian";
+      return res;
+    }
+    if (ni > 0) {
+      if (m_.init_residual(t_, y.data(), yp.data(), ev_.params(), g.data()) ||
+          m_.init_jacobian(t_, y.data(), yp.data(), ev_.params(), Gy.data(),
+                           Gyp.data())) {
+        res.domainError = "an initial equation";
+        return res;
+      }
+    }
+    MatrixXd Es = E * D_.asDiagonal(), Fs = Fy * D_.asDiagonal();
+    int steps = 0;
+    MatrixXd T = linalg::jumpSpace(Es, -Fs, &steps);
+    res.index = steps;
+    int levels = std::max(steps - 1, 0);
+
+    // Free coordinates: every unknown whose start value is not fixed.
+    std::vector<int> freeIdx, freeDiff;
+    for (int i = 0; i < n_; ++i)
+      if (!(m_.fixed && m_.fixed[i])) {
+        freeIdx.push_back(i);
+        if (ev_.set(set_).is_differential[i])
+          freeDiff.push_back(i);
+      }
+    MatrixXd U = MatrixXd::Zero(n_, freeIdx.size());
+    for (size_t c = 0; c < freeIdx.size(); ++c)
+      U(freeIdx[c], c) = 1;
+    MatrixXd B;
+    if (mode == Mode::Jumps) {
+      B = linalg::intersect(T, U, 1e-10);
+      if (ni > 0 && !freeDiff.empty()) {
+        // Initial equations may tie differential values too; those move
+        // as little as the equations allow.
+        MatrixXd Bd(n_, B.cols() + freeDiff.size());
+        Bd.leftCols(B.cols()) = B;
+        Bd.rightCols(freeDiff.size()).setZero();
+        for (size_t c = 0; c < freeDiff.size(); ++c)
+          Bd(freeDiff[c], B.cols() + c) = 1;
+        B = linalg::rangeBasis(Bd, 1e-10);
+      }
+    } else {
+      B = U;
+    }
+    res.jumpDim = B.cols();
+
+    if (levels > 0) {
+      // F_t by a forward difference: the hidden constraints of a
+      // time-dependent model carry it.
+      double h = 1e-7 * std::max(1.0, std::fabs(t_));
+      VectorXd r1(n_);
+      if (ev_.residual(set_, t_ + h, y.data(), yp.data(), r1.data()) == 0)
+        rt = (r1 - r) / h;
+      else
+        rt.setZero();
+    }
+
+    int k = B.cols();
+    int cols = k + n_ * (1 + levels), rows = n_ * (1 + levels) + ni;
+    MatrixXd A = MatrixXd::Zero(rows, cols);
+    VectorXd b = VectorXd::Zero(rows);
+    A.block(0, 0, n_, k) = Fs * B;
+    A.block(0, k, n_, n_) = Es;
+    b.head(n_) = -r;
+    for (int l = 1; l <= levels; ++l) {
+      int row = n_ * l, col = k + n_ * (l - 1);
+      A.block(row, col, n_, n_) = Fs;
+      A.block(row, col + n_, n_, n_) = Es;
+      if (l == 1)
+        b.segment(row, n_) = -(Fy * yp + rt);
+    }
+    if (ni > 0) {
+      int row = n_ * (1 + levels);
+      A.block(row, 0, ni, k) = Gy * D_.asDiagonal() * B;
+      A.block(row, k, ni, n_) = Gyp * D_.asDiagonal();
+      b.tail(ni) = -g;
+    }
+    // Residuals are judged relative to their row's sensitivity to the
+    // scaled unknowns: "how far off, in nominal units".
+    VectorXd rowScale(rows);
+    for (int i = 0; i < rows; ++i)
+      rowScale(i) = std::max(A.row(i).cwiseAbs().maxCoeff(), 1e-300);
+    VectorXd scaled = b.cwiseAbs().cwiseQuotient(rowScale);
+    res.residual = scaled.size() ? scaled.maxCoeff() : 0.0;
+    const double tol = 1e-10;
+    for (int i = 0; i < rows; ++i)
+      if (scaled(i) > tol)
+        res.badRows.push_back(i);
+    if (res.badRows.empty()) {
+      res.converged = true;
+      return res;
+    }
+    Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod(A);
+    cod.setThreshold(1e-12);
+    VectorXd x = cod.solve(b);
+    VectorXd lin = (A * x - b).cwiseAbs().cwiseQuotient(rowScale);
+    if (lin.maxCoeff() > 1e-6 * std::max(1.0, res.residual))
+      res.solvable = false;
+    y += D_.asDiagonal() * (B * x.head(k));
+    yp += D_.asDiagonal() * x.segment(k, n_);
+    return res;
+  }
+
+  /// "equation 3 at model.lsd:12" for a row of the step's system.
+  std::string describe(int row, int levels) const {
+    int level = row / n_;
+    if (row >= n_ * (1 + levels))
+      return fmt::format("initial equation {}", row - n_ * (1 + levels) + 1);
+    std::string what = ev_.describeRow(row % n_);
+    return level == 0 ? what
+                      : fmt::format("the time derivative ({}) of {}", level,
+                                    what);
+  }
+
+private:
+  const ModelEval &ev_;
+  const ldae_model &m_;
+  int set_;
+  double t_;
+  int n_;
+  VectorXd D_;
+};
+
+} // namespace
+
+InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
+                                 const std::vector<double> &y0,
+                                 const std::vector<double> &yp0,
+                                 std::ostream *log) {
+  InitOutcome out;
+  Newton newton(ev, set, t);
+  int n = ev.n();
+  double best = INFINITY;
+  StepResult last;
+  for (Mode mode : {Mode::Jumps, Mode::Nearest}) {
+    VectorXd y = Eigen::Map<const VectorXd>(y0.data(), n);
+    VectorXd yp = Eigen::Map<const VectorXd>(yp0.data(), n);
+    bool first = true;
+    for (int iter = 0; iter < 50; ++iter) {
+      StepResult s = newton.step(mode, y, yp);
+      if (first) {
+        out.jumpDim = s.jumpDim;
+        out.index = s.index;
+        first = false;
+      }
+      if (!s.domainError.empty()) {
+        out.failure = fmt::format("{} is outside its domain at the start "
+                                  "values",
+                                  s.domainError);
+        return out;
+      }
+      best = std::min(best, s.residual);
+      last = s;
+      if (s.converged) {
+        out.ok = true;
+        out.nearestPoint = mode == Mode::Nearest;
+        out.residual = s.residual;
+        out.y.assign(y.data(), y.data() + n);
+        out.yp.assign(yp.data(), yp.data() + n);
+        return out;
+      }
+      if (!s.solvable && mode == Mode::Jumps)
+        break; // no step along T: try the nearest point
+    }
+    if (mode == Mode::Jumps && log)
+      *log << "warning: the start values cannot be made consistent along "
+              "the jump directions; taking the consistent point nearest to "
+              "them (nominal-scaled)\n";
+  }
+  out.residual = best;
+  std::string rows;
+  int levels = std::max(last.index - 1, 0);
+  for (size_t i = 0; i < last.badRows.size() && i < 5; ++i)
+    rows += (i ? ", " : "") + newton.describe(last.badRows[i], levels);
+  out.failure = fmt::format(
+      "no consistent initial point: {} cannot be met (smallest residual "
+      "reached {:.3g}); check the start values, fixed values and initial "
+      "equations",
+      rows.empty() ? std::string("the equations") : rows, best);
+  return out;
+}
+
+void reportMoves(const ModelEval &ev, const std::vector<double> &before,
+                 const double *after, std::ostream *log) {
+  if (!log)
+    return;
+  const ldae_model &m = ev.model();
+  int moved = 0;
+  for (int i = 0; i < ev.n(); ++i) {
+    double nom = m.nominal ? m.nominal[i] : 1.0;
+    double d = after[i] - before[i];
+    if (std::fabs(d) <= 1e-12 * std::max(nom, std::fabs(before[i])))
+      continue;
+    if (moved++ == 0)
+      *log << "initialization moved:\n";
+    *log << fmt::format("  '{}' from {:.10g} to {:.10g} (by {:.3g})\n",
+                        ev.varName(i), before[i], after[i], d);
+  }
+  if (moved == 0)
+    *log << "initialization: the start values are consistent\n";
+}
+
+} // namespace ldae::runtime

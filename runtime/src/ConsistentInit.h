@@ -1,0 +1,49 @@
+// Consistent initialization by the rule of LANGUAGE.md ("Initial values",
+// seed 002): fixed start values and initial equations are met exactly; the
+// other start values move onto the constraints only along the jump space
+// T(E, F) of the model linearized at the current iterate (E = dF/dy',
+// F = -dF/dy), by Newton steps in that subspace; where no such step exists,
+// the nearest point in the nominal-scaled norm, with a warning.
+//
+// For an index-1 state set (E zero on the algebraic columns, [E_d F_a]
+// nonsingular) T is just the algebraic coordinates; the simulator then lets
+// IDACalcIC do the work and does not call initializeAlongJumps.
+#pragma once
+
+#include "ModelEval.h"
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace ldae::runtime {
+
+/// Whether state set `set` at (t, y, y') has the plain index-1 structure
+/// and the start data leave the differential values alone (no initial
+/// equations, no fixed algebraic unknown), so IDACalcIC(IDA_YA_YDP_INIT)
+/// is exactly the rule.
+bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
+                     const double *yp);
+
+struct InitOutcome {
+  bool ok = false;
+  std::vector<double> y, yp;
+  int jumpDim = 0;          ///< dim T at the start point (after fixing)
+  int index = 0;            ///< Wong steps of T (the index of the pencil)
+  bool nearestPoint = false; ///< fell back to the nominal-scaled nearest point
+  double residual = 0;      ///< smallest max |residual| reached
+  std::string failure;      ///< when !ok: which equations cannot be met
+};
+
+/// Newton iteration along T(E, F) (see the file comment). Logs warnings to
+/// `log` (may be null).
+InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
+                                 const std::vector<double> &y0,
+                                 const std::vector<double> &yp0,
+                                 std::ostream *log);
+
+/// Logs every unknown whose value differs between `before` and `after`.
+void reportMoves(const ModelEval &ev, const std::vector<double> &before,
+                 const double *after, std::ostream *log);
+
+} // namespace ldae::runtime

@@ -1,0 +1,78 @@
+// Residual and Jacobian evaluation through the C ABI (see ModelEval.h).
+#include "ModelEval.h"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace ldae::runtime {
+
+int ModelEval::jacobian(int k, double t, const double *y, const double *yp,
+                        double cj, Eigen::MatrixXd &J) const {
+  const ldae_state_set &s = set(k);
+  int n = m_.n;
+  J.setZero(n, n);
+  if (s.jacobian_dense)
+    return s.jacobian_dense(t, y, yp, p_.data(), cj, J.data());
+  if (s.jacobian_csc) {
+    std::vector<double> vals(s.jac_nnz);
+    if (int rc = s.jacobian_csc(t, y, yp, p_.data(), cj, vals.data()))
+      return rc;
+    for (int c = 0; c < n; ++c)
+      for (int q = s.jac_colptr[c]; q < s.jac_colptr[c + 1]; ++q)
+        J(s.jac_rowind[q], c) = vals[q];
+    return 0;
+  }
+  // Difference quotients, one column at a time, perturbing y and y' together
+  // the way the iteration matrix combines them.
+  std::vector<double> r0(n), r1(n), yy(y, y + n), yyp(yp, yp + n);
+  if (int rc = residual(k, t, y, yp, r0.data()))
+    return rc;
+  for (int c = 0; c < n; ++c) {
+    double scale = std::max({std::fabs(y[c]), std::fabs(yp[c]),
+                             m_.nominal ? m_.nominal[c] : 1.0});
+    double h = 1e-7 * scale;
+    yy[c] += h;
+    yyp[c] += cj * h;
+    int rc = residual(k, t, yy.data(), yyp.data(), r1.data());
+    yy[c] = y[c];
+    yyp[c] = yp[c];
+    if (rc)
+      return rc;
+    for (int r = 0; r < n; ++r)
+      J(r, c) = (r1[r] - r0[r]) / h;
+  }
+  return 0;
+}
+
+int ModelEval::jacobianParts(int k, double t, const double *y,
+                             const double *yp, Eigen::MatrixXd &Fy,
+                             Eigen::MatrixXd &E) const {
+  if (int rc = jacobian(k, t, y, yp, 0.0, Fy))
+    return rc;
+  if (int rc = jacobian(k, t, y, yp, 1.0, E))
+    return rc;
+  E -= Fy;
+  return 0;
+}
+
+std::string ModelEval::varName(int i) const {
+  if (m_.var_names && m_.var_names[i])
+    return m_.var_names[i];
+  return fmt::format("y[{}]", i);
+}
+
+std::string ModelEval::origin(int row) const {
+  if (row < 0 || row >= m_.n || !m_.residual_origin ||
+      !m_.residual_origin[row])
+    return "";
+  return m_.residual_origin[row];
+}
+
+std::string ModelEval::describeRow(int row) const {
+  std::string o = origin(row);
+  if (o.empty())
+    return fmt::format("equation {}", row + 1);
+  return fmt::format("equation {} at {}", row + 1, o);
+}
+
+} // namespace ldae::runtime

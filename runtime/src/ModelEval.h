@@ -1,0 +1,49 @@
+// Evaluating a compiled model through its C ABI with the runtime's choice of
+// parameters and state set: residuals, dense Jacobians (from the dense or
+// the CSC function, or by difference quotients when the model gives
+// neither), names and source locations for messages.
+#pragma once
+
+#include "ldae/model.h"
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+namespace ldae::runtime {
+
+class ModelEval {
+public:
+  ModelEval(const ldae_model &m, std::vector<double> params)
+      : m_(m), p_(std::move(params)) {}
+
+  const ldae_model &model() const { return m_; }
+  const double *params() const { return p_.data(); }
+  int n() const { return m_.n; }
+  const ldae_state_set &set(int k) const { return m_.state_sets[k]; }
+
+  /// r = F_k(t, y, y'); returns the ABI status (0 ok, >0 domain error row+1).
+  int residual(int k, double t, const double *y, const double *yp,
+               double *r) const {
+    return set(k).residual(t, y, yp, p_.data(), r);
+  }
+  /// J = dF_k/dy + cj dF_k/dy' as a dense matrix.
+  int jacobian(int k, double t, const double *y, const double *yp, double cj,
+               Eigen::MatrixXd &J) const;
+  /// dF/dy (cj = 0) and E = dF/dy' (from cj = 1 minus cj = 0).
+  int jacobianParts(int k, double t, const double *y, const double *yp,
+                    Eigen::MatrixXd &Fy, Eigen::MatrixXd &E) const;
+
+  /// The unknown's name ("y[3]" when the model has none).
+  std::string varName(int i) const;
+  /// "file:line" of the equation of residual row `row`, or "" if unknown.
+  std::string origin(int row) const;
+  /// "'name' (file:line)"-style description of a residual row.
+  std::string describeRow(int row) const;
+
+private:
+  const ldae_model &m_;
+  std::vector<double> p_;
+};
+
+} // namespace ldae::runtime

@@ -1,0 +1,111 @@
+// CSV output and column selection by name (see ResultWriter.h).
+#include "ResultWriter.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <fstream>
+#include <iostream>
+
+namespace ldae::runtime {
+
+std::string formatValue(double v) {
+  // fmt never uses the locale unless asked: always a '.' decimal point.
+  return fmt::format("{:.17g}", v);
+}
+
+static std::string csvField(const std::string &s) {
+  if (s.find_first_of(",\"\n") == std::string::npos)
+    return s;
+  std::string q = "\"";
+  for (char c : s)
+    q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+void writeCsv(const SimResult &result, std::ostream &out) {
+  std::string line;
+  for (size_t c = 0; c < result.columns.size(); ++c)
+    line += (c ? "," : "") + csvField(result.columns[c]);
+  out << line << '\n';
+  for (const auto &row : result.rows) {
+    line.clear();
+    for (size_t c = 0; c < row.size(); ++c) {
+      if (c)
+        line += ',';
+      line += formatValue(row[c]);
+    }
+    out << line << '\n';
+  }
+  out.flush();
+}
+
+Expected<bool> writeCsv(const SimResult &result, const std::string &path) {
+  if (path == "-") {
+    writeCsv(result, std::cout);
+    return true;
+  }
+  std::ofstream f(path);
+  if (!f)
+    return Error{fmt::format("cannot write '{}'", path)};
+  writeCsv(result, f);
+  if (!f)
+    return Error{fmt::format("cannot write '{}'", path)};
+  return true;
+}
+
+static size_t editDistance(const std::string &a, const std::string &b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j)
+    prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1,
+                         prev[j - 1] + (a[i - 1] != b[j - 1])});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::vector<std::string> closeNames(const std::vector<std::string> &available,
+                                    const std::string &name, size_t limit) {
+  std::vector<std::pair<size_t, std::string>> scored;
+  size_t maxDist = std::max<size_t>(2, name.size() / 3);
+  for (const auto &a : available) {
+    size_t d = editDistance(a, name);
+    bool sub = !name.empty() && (a.find(name) != std::string::npos ||
+                                 name.find(a) != std::string::npos);
+    if (d <= maxDist || sub)
+      scored.push_back({sub ? std::min(d, maxDist) : d, a});
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](auto &x, auto &y) { return x.first < y.first; });
+  std::vector<std::string> out;
+  for (size_t i = 0; i < scored.size() && i < limit; ++i)
+    out.push_back(scored[i].second);
+  return out;
+}
+
+Expected<std::vector<int>>
+selectColumns(const std::vector<std::string> &available,
+              const std::vector<std::string> &wanted) {
+  std::vector<int> idx;
+  for (const auto &w : wanted) {
+    auto it = std::find(available.begin(), available.end(), w);
+    if (it != available.end()) {
+      idx.push_back(int(it - available.begin()));
+      continue;
+    }
+    std::vector<std::string> close = closeNames(available, w);
+    std::string hint;
+    for (size_t i = 0; i < close.size(); ++i)
+      hint += (i ? ", '" : "'") + close[i] + "'";
+    return Error{close.empty()
+                     ? fmt::format("unknown output '{}'", w)
+                     : fmt::format("unknown output '{}'; did you mean {}?", w,
+                                   hint)};
+  }
+  return idx;
+}
+
+} // namespace ldae::runtime

@@ -1,0 +1,31 @@
+// Writing simulation results: CSV with a header of names, `.` decimal
+// point and 17 significant digits (round-trips doubles exactly).
+#pragma once
+
+#include "Simulator.h"
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace ldae::runtime {
+
+/// Writes `result` as CSV to `out`.
+void writeCsv(const SimResult &result, std::ostream &out);
+/// Writes `result` as CSV to the file `path` ("-" is stdout).
+Expected<bool> writeCsv(const SimResult &result, const std::string &path);
+
+/// Formats one value as the CSV does (17 significant digits, `.` point).
+std::string formatValue(double v);
+
+/// Indices into `available` of the `wanted` names, in the order asked.
+/// An unknown name is an Error that lists the closest available names.
+Expected<std::vector<int>> selectColumns(const std::vector<std::string> &available,
+                                         const std::vector<std::string> &wanted);
+
+/// Names in `available` close to `name` (edit distance or substring), best
+/// first, at most `limit`.
+std::vector<std::string> closeNames(const std::vector<std::string> &available,
+                                    const std::string &name, size_t limit = 5);
+
+} // namespace ldae::runtime

@@ -1,0 +1,324 @@
+// The simulation driver (see Simulator.h): resolve options, find a
+// consistent initial point, step IDA one internal step at a time,
+// interpolate onto the output grid, switch state sets when the current
+// one's pivot degrades, and keep the results of a failed run.
+#include "Simulator.h"
+#include "ConsistentInit.h"
+#include "FailureReport.h"
+#include "IdaIntegrator.h"
+#include "Progress.h"
+#include "ResultWriter.h"
+#include "StateSelection.h"
+
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+#include <ida/ida.h>
+#include <ostream>
+
+namespace ldae::runtime {
+
+namespace {
+
+double pick(const std::optional<double> &opt, double fromModel, double dflt) {
+  if (opt)
+    return *opt;
+  return std::isnan(fromModel) ? dflt : fromModel;
+}
+
+/// Resolved settings of one run.
+struct RunSettings {
+  double start, stop, rtol, atol, interval;
+};
+
+Expected<RunSettings> resolve(const ldae_model &m, const SimOptions &o) {
+  RunSettings s;
+  s.start = pick(o.start, m.start_time, 0.0);
+  s.stop = pick(o.stop, m.stop_time, 1.0);
+  s.rtol = pick(o.rtol, m.tolerance, 1e-6);
+  s.atol = o.atol ? *o.atol : s.rtol;
+  s.interval = pick(o.interval, m.interval, (s.stop - s.start) / 500);
+  if (!(s.stop >= s.start))
+    return Error{fmt::format("the stop time {} is before the start time {}",
+                             s.stop, s.start)};
+  if (!(s.rtol > 0) || !(s.atol > 0))
+    return Error{"tolerances must be positive"};
+  if (!(s.interval > 0) && s.stop > s.start)
+    return Error{"the output interval must be positive"};
+  return s;
+}
+
+Expected<std::vector<double>> resolveParams(const ldae_model &m,
+                                            const SimOptions &o) {
+  std::vector<double> p(m.param_values, m.param_values + m.n_params);
+  std::vector<std::string> names;
+  for (int i = 0; i < m.n_params; ++i)
+    names.push_back(m.param_names && m.param_names[i] ? m.param_names[i] : "");
+  for (const auto &[name, value] : o.params) {
+    auto sel = selectColumns(names, {name});
+    if (!sel)
+      return Error{fmt::format("unknown parameter '{}'", name) +
+                   sel.error().substr(sel.error().find(name) + name.size() + 1)};
+    p[(*sel)[0]] = value;
+  }
+  return p;
+}
+
+/// Collects rows and the drift maximum.
+class Recorder {
+public:
+  Recorder(const ModelEval &ev, std::vector<int> cols, SimResult &res)
+      : ev_(ev), m_(ev.model()), cols_(std::move(cols)), res_(res),
+        out_(std::max(m_.n_outputs, 0)), drift_(std::max(m_.n_drift, 0)) {}
+
+  void record(double t, const double *y, const double *yp) {
+    std::vector<double> row{t};
+    const double *src = y;
+    if (m_.n_outputs > 0) {
+      if (m_.outputs(t, y, yp, ev_.params(), out_.data()) != 0)
+        std::fill(out_.begin(), out_.end(), NAN);
+      src = out_.data();
+    }
+    for (int c : cols_)
+      row.push_back(src[c]);
+    res_.rows.push_back(std::move(row));
+    if (m_.n_drift > 0 && m_.drift &&
+        m_.drift(t, y, yp, ev_.params(), drift_.data()) == 0)
+      for (double d : drift_)
+        res_.stats.maxDrift = std::max(res_.stats.maxDrift, std::fabs(d));
+  }
+
+private:
+  const ModelEval &ev_;
+  const ldae_model &m_;
+  std::vector<int> cols_;
+  SimResult &res_;
+  std::vector<double> out_, drift_;
+};
+
+/// Finds the initial point; returns false (with the failure filled in)
+/// when there is none.
+bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
+                double tNext, SimResult &res, std::ostream *log) {
+  const ldae_model &m = ev.model();
+  int n = ev.n();
+  std::vector<double> y(m.start_y, m.start_y + n),
+      yp(m.start_yp, m.start_yp + n);
+  if (isPlainIndexOne(ev, set, t0, y.data(), yp.data())) {
+    int flag = ida.calcIC(tNext);
+    if (flag >= 0) {
+      if (log)
+        *log << "initialization: index-1 structure; algebraic values and "
+                "derivatives solved from the differential start values\n";
+      reportMoves(ev, y, ida.y(), log);
+      return true;
+    }
+    if (log)
+      *log << "initialization: IDACalcIC failed; trying Newton steps along "
+              "the jump space\n";
+    auto re = ida.reinit(set, t0, y.data(), yp.data());
+    if (!re) {
+      res.failure = re.error();
+      return false;
+    }
+  }
+  InitOutcome init = initializeAlongJumps(ev, set, t0, y, yp, log);
+  if (!init.ok) {
+    res.failure = "initialization failed at t = " + fmt::format("{}", t0) +
+                  ": " + init.failure;
+    return false;
+  }
+  if (log)
+    *log << fmt::format("initialization: start values moved along the jump "
+                        "space T (dimension {}, index {}){}\n",
+                        init.jumpDim, init.index,
+                        init.nearestPoint ? "; nearest point used" : "");
+  reportMoves(ev, y, init.y.data(), log);
+  auto re = ida.reinit(set, t0, init.y.data(), init.yp.data());
+  if (!re) {
+    res.failure = re.error();
+    return false;
+  }
+  return true;
+}
+
+/// Restarts IDA at the current point with state set `to`.
+bool switchStates(const ModelEval &ev, IdaIntegrator &ida, int to, double t,
+                  double tNext, const std::vector<double> &cond,
+                  SimResult &res, std::ostream *log) {
+  int from = ida.set();
+  int n = ev.n();
+  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
+  auto re = ida.reinit(to, t, y.data(), yp.data());
+  if (!re) {
+    res.failure = re.error();
+    return false;
+  }
+  int flag = ida.calcIC(tNext);
+  if (flag < 0) {
+    res.failure = describeInitFailure(ev, ida, flag, t) +
+                  " (after switching state sets)";
+    return false;
+  }
+  ++res.stats.stateSwitches;
+  if (log) {
+    auto desc = [&](int k) {
+      const char *d = ev.set(k).description;
+      return d ? std::string(d) : fmt::format("set {}", k);
+    };
+    *log << fmt::format("t = {:.10g}: state selection switched from '{}' to "
+                        "'{}' (pivot condition {:.3g} -> {:.3g})\n",
+                        t, desc(from), desc(to), cond[from], cond[to]);
+  }
+  return true;
+}
+
+} // namespace
+
+Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
+  auto wall0 = std::chrono::steady_clock::now();
+  if (m.abi_version != LDAE_ABI_VERSION)
+    return Error{fmt::format("model ABI version {} does not match the "
+                             "runtime's {}",
+                             m.abi_version, LDAE_ABI_VERSION)};
+  if (m.n_state_sets < 1 || !m.state_sets)
+    return Error{"the model has no state set"};
+  auto settings = resolve(m, o);
+  if (!settings)
+    return Error{settings.error()};
+  auto params = resolveParams(m, o);
+  if (!params)
+    return Error{params.error()};
+  const RunSettings &s = *settings;
+
+  std::vector<std::string> available;
+  for (int i = 0; i < (m.n_outputs > 0 ? m.n_outputs : m.n); ++i) {
+    const char *name = m.n_outputs > 0 ? m.output_names[i]
+                                       : (m.var_names ? m.var_names[i] : nullptr);
+    available.push_back(name ? name : fmt::format("y[{}]", i));
+  }
+  std::vector<int> cols;
+  if (o.outputs.empty()) {
+    for (size_t i = 0; i < available.size(); ++i)
+      cols.push_back(int(i));
+  } else {
+    auto sel = selectColumns(available, o.outputs);
+    if (!sel)
+      return Error{sel.error()};
+    cols = *sel;
+  }
+
+  SimResult res;
+  res.columns.push_back("time");
+  for (int c : cols)
+    res.columns.push_back(available[c]);
+  ModelEval ev(m, *params);
+  Recorder rec(ev, cols, res);
+  res.stats.n = m.n;
+  auto finish = [&](IdaIntegrator *ida) -> Expected<SimResult> {
+    if (ida) {
+      ida->addCounters(res.stats);
+      res.stats.sparse = ida->sparse();
+    }
+    res.stats.wallTime = std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - wall0)
+                             .count();
+    if (!res.failure.empty())
+      res.status = 3;
+    return res;
+  };
+
+  // Start with the best-conditioned state set at the start values.
+  int set = 0;
+  std::vector<double> cond =
+      pivotConditions(ev, s.start, m.start_y, m.start_yp);
+  set = chooseStateSet(cond, 0);
+
+  std::vector<double> atol(m.n);
+  for (int i = 0; i < m.n; ++i)
+    atol[i] = s.atol * (m.nominal ? m.nominal[i] : 1.0);
+  double span = s.stop - s.start;
+  double tNext = s.start + (span > 0 ? std::min(s.interval, span) : 1e-6);
+  IdaIntegrator ida(ev);
+  // IDA needs stop > start; a zero-length run still initializes.
+  auto ok = ida.init(set, s.start, m.start_y, m.start_yp, s.rtol, atol,
+                     span > 0 ? s.stop : s.start + 1e-6);
+  if (!ok)
+    return Error{ok.error()};
+  if (!initialize(ev, ida, set, s.start, tNext, res, o.log))
+    return finish(&ida);
+  rec.record(s.start, ida.y(), ida.yp());
+  if (span <= 0)
+    return finish(&ida);
+
+  // Output grid start + k * interval, the last point exactly stop.
+  long nOut = std::max(1L, long(std::ceil(span / s.interval - 1e-9)));
+  auto gridTime = [&](long k) {
+    return k >= nOut ? s.stop : s.start + double(k) * s.interval;
+  };
+  long k = 1;
+  std::vector<double> ybuf(m.n), ypbuf(m.n);
+  Progress progress(o.progress, s.start, s.stop);
+  double t = s.start;
+  while (true) {
+    int flag = ida.step(t);
+    if (flag < 0) {
+      res.failure = describeFailure(ev, ida, flag, ida.currentTime());
+      break;
+    }
+    if (o.everyStep) {
+      rec.record(t, ida.y(), ida.yp());
+    } else {
+      for (; k <= nOut && gridTime(k) <= t; ++k) {
+        double tk = gridTime(k);
+        if (!ida.dky(tk, 0, ybuf.data()) || !ida.dky(tk, 1, ypbuf.data())) {
+          res.failure = fmt::format("internal error: interpolation at t = {}",
+                                    tk);
+          break;
+        }
+        rec.record(tk, ybuf.data(), ypbuf.data());
+      }
+      if (!res.failure.empty())
+        break;
+    }
+    if (flag == IDA_ROOT_RETURN && o.log) {
+      std::vector<int> found = ida.rootsFound();
+      for (size_t r = 0; r < found.size(); ++r)
+        if (found[r])
+          *o.log << fmt::format("t = {:.10g}: event condition {} crossed "
+                                "zero\n",
+                                t, r + 1);
+    }
+    if (flag == IDA_TSTOP_RETURN || t >= s.stop)
+      break;
+    if (m.n_state_sets > 1) {
+      cond = pivotConditions(ev, t, ida.y(), ida.yp());
+      int best = chooseStateSet(cond, ida.set());
+      if (best != ida.set() &&
+          !switchStates(ev, ida, best, t, std::min(s.stop, t + s.interval),
+                        cond, res, o.log))
+        break;
+    }
+    progress.update(t);
+  }
+  progress.finish();
+  return finish(&ida);
+}
+
+void printStats(const SimStats &st, std::ostream &out) {
+  out << fmt::format("unknowns                    {}\n", st.n)
+      << fmt::format("linear solver               {}\n",
+                     st.sparse ? "KLU (sparse)" : "dense LU")
+      << fmt::format("steps                       {}\n", st.steps)
+      << fmt::format("residual evaluations        {}\n", st.residualEvals)
+      << fmt::format("jacobian evaluations        {}\n", st.jacobianEvals)
+      << fmt::format("error test failures         {}\n", st.errorTestFailures)
+      << fmt::format("nonlinear conv. failures    {}\n",
+                     st.convergenceFailures)
+      << fmt::format("state set switches          {}\n", st.stateSwitches)
+      << fmt::format("roots found                 {}\n", st.rootsFound)
+      << fmt::format("largest drift residual      {:.3g}\n", st.maxDrift)
+      << fmt::format("wall time                   {:.3f} s\n", st.wallTime);
+}
+
+} // namespace ldae::runtime

@@ -1,0 +1,70 @@
+// The simulation driver's public API: integrate a compiled model (the C ABI
+// struct ldae_model) with IDA from a consistent initial point, switching
+// state sets when their pivot matrix degrades, and collect the results.
+// The driver (compiler/driver) and the benchmarks call only this header,
+// ResultWriter.h and Plot.h.
+#pragma once
+
+#include "ldae/model.h"
+#include "support/Expected.h"
+
+#include <iosfwd>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ldae::runtime {
+
+/// What the user asked for; unset values fall back to the model's
+/// experiment annotation, then to start 0, stop 1, rtol 1e-6,
+/// atol = rtol, interval (stop - start) / 500.
+struct SimOptions {
+  std::optional<double> start, stop, rtol, atol, interval;
+  /// Report every internal step instead of the `interval` grid.
+  bool everyStep = false;
+  /// Reported columns by name (outputs, or unknowns when the model has no
+  /// outputs); empty: all.
+  std::vector<std::string> outputs;
+  /// Progress bar on stderr when it is a terminal and the run is long.
+  bool progress = true;
+  /// Where initialization reports, state switches and warnings go
+  /// (nullptr: nowhere).
+  std::ostream *log = nullptr;
+  /// Parameter values overriding the model's defaults, by name.
+  std::map<std::string, double> params;
+};
+
+/// Counters of one run (summed over all IDA re-initializations).
+struct SimStats {
+  long steps = 0;
+  long residualEvals = 0; ///< including those for difference quotients
+  long jacobianEvals = 0;
+  long errorTestFailures = 0;
+  long convergenceFailures = 0; ///< nonlinear solver failures
+  long stateSwitches = 0;
+  long rootsFound = 0;
+  double maxDrift = 0; ///< largest |model.drift| seen at output points
+  double wallTime = 0; ///< seconds, initialization included
+  bool sparse = false; ///< KLU (true) or dense LU (false)
+  int n = 0;           ///< unknowns
+};
+
+/// The run's table and outcome.
+struct SimResult {
+  int status = 0;      ///< 0 ok, 3 numerical failure (rows kept up to it)
+  std::string failure; ///< the message when status != 0
+  std::vector<std::string> columns; ///< "time", then the reported names
+  std::vector<std::vector<double>> rows;
+  SimStats stats;
+};
+
+/// Integrates `model`. Returns an Error only for bad options (an unknown
+/// output or parameter name, stop before start, a non-positive tolerance);
+/// numerical failures come back as status 3 with the message in `failure`.
+Expected<SimResult> simulate(const ldae_model &model, const SimOptions &opts);
+
+/// Prints the counters, one per line.
+void printStats(const SimStats &stats, std::ostream &out);
+
+} // namespace ldae::runtime
