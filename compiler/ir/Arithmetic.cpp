@@ -12,12 +12,22 @@ namespace ldae::ir {
 
 namespace {
 
-/// Orders the operands of a sum or product: the constant first, then by id.
-void sortCanonical(std::vector<ExprRef> &ops) {
-  std::sort(ops.begin(), ops.end(), [](ExprRef a, ExprRef b) {
+/// The id a term of a sum sorts by: that of its first symbolic factor, so
+/// `2*x` sorts with `x` (terms read in the order their variables were made).
+uint32_t termKey(ExprRef t) {
+  if (t->kind() == ExprKind::Mul && t->operand(0)->isConstant())
+    return t->operand(1)->id();
+  return t->id();
+}
+
+/// Orders the operands of a sum or product: the constant first, then by
+/// key (termKey for sums, the id for products), then by id.
+void sortCanonical(std::vector<ExprRef> &ops, bool sum) {
+  std::sort(ops.begin(), ops.end(), [sum](ExprRef a, ExprRef b) {
     if (a->isConstant() != b->isConstant())
       return a->isConstant();
-    return a->id() < b->id();
+    uint32_t ka = sum ? termKey(a) : a->id(), kb = sum ? termKey(b) : b->id();
+    return ka != kb ? ka < kb : a->id() < b->id();
   });
 }
 
@@ -116,7 +126,7 @@ ExprRef ExprContext::add(std::span<const ExprRef> terms) {
     return zero();
   if (out.size() == 1)
     return out[0];
-  sortCanonical(out);
+  sortCanonical(out, true);
   return intern(ExprKind::Add, 0, 0, 0, 0, out);
 }
 
@@ -217,7 +227,7 @@ ExprRef ExprContext::mul(std::span<const ExprRef> factors) {
   }
   if (coef != 1)
     out.push_back(constant(coef));
-  sortCanonical(out);
+  sortCanonical(out, false);
   return intern(ExprKind::Mul, 0, 0, 0, 0, out);
 }
 
