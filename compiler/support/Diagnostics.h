@@ -52,6 +52,9 @@ public:
     addNote(parent, SourceRange{loc, 1}, id, std::move(args));
   }
 
+  /// The files diagnostics point into (for `file:line` inside messages).
+  const SourceManager &sources() const { return sources_; }
+
   unsigned errorCount() const { return errors_; }
   bool hasErrors() const { return errors_ != 0; }
   const std::vector<Diagnostic> &diagnostics() const { return diags_; }
