@@ -41,6 +41,12 @@ struct StateSet {
   unsigned pivotSize = 0;
   std::vector<ExprRef> pivot;
   std::vector<std::string> states; // names, for reports
+  /// Optional per-set meaning of the unknown slots: keys[i] replaces
+  /// unknowns[i].key in this set's residuals, Jacobian and pivot (dynamic
+  /// dummy derivatives: slot 5 holds der(y) in one set, der(x) in another).
+  /// Empty: every slot keeps unknowns[i].key. Outputs, roots, initial
+  /// residuals and constraints always use unknowns[i].key.
+  std::vector<VarKey> keys;
 };
 
 /// A reported variable computed from the unknowns (aliases, solved-out).
