@@ -1,0 +1,330 @@
+// Pass "alias": removes equations `a = b`, `a = -b` and `a = c` (c free of
+// variables and time) before structural analysis. Connections create many;
+// eliminating them shrinks every later graph. Each class of aliases keeps
+// one representative, chosen by what the user is likely to want to see:
+// a fixed start value, then any start value, then stateSelect, then a
+// variable whose derivative appears, then the shortest and alphabetically
+// first name (never the declaration order, so shuffling changes nothing).
+// The removed variables become outputs of the system.
+#include "passes/AnalysisState.h"
+
+#include "ir/Query.h"
+#include "ir/Substitute.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <optional>
+
+namespace ldae::passes {
+
+namespace {
+
+/// A linear alias equation: `s1*a + s2*b = 0` or `s1*a + c = 0`.
+struct AliasEquation {
+  int equation;
+  ir::VarId a;
+  double sa;
+  std::optional<ir::VarId> b;
+  double sb = 0;
+  ir::ExprRef constant = nullptr; // the `c` (over parameters only)
+  std::string key;                // canonical order
+};
+
+/// `±1 * Variable(v, 0)` as (v, ±1).
+std::optional<std::pair<ir::VarId, double>> unitVariable(ir::ExprRef e) {
+  if (e->kind() == ir::ExprKind::Variable && e->order() == 0)
+    return std::make_pair(e->var(), 1.0);
+  if (e->kind() == ir::ExprKind::Mul && e->numOperands() == 2 &&
+      e->operand(0)->isConstant() &&
+      std::fabs(e->operand(0)->constant()) == 1.0 &&
+      e->operand(1)->kind() == ir::ExprKind::Variable &&
+      e->operand(1)->order() == 0)
+    return std::make_pair(e->operand(1)->var(), e->operand(0)->constant());
+  return std::nullopt;
+}
+
+bool isConstantTerm(ir::ExprRef e) {
+  if (!ir::freeVariables(e).empty() || ir::dependsOnTime(e))
+    return false;
+  for (ir::ExprRef n : ir::topologicalOrder(std::span<const ir::ExprRef>(&e, 1)))
+    if (n->kind() == ir::ExprKind::Pre)
+      return false;
+  return true;
+}
+
+std::optional<AliasEquation> matchAlias(ir::ExprContext &ctx,
+                                        ir::ExprRef residual, int eq) {
+  std::vector<ir::ExprRef> terms;
+  if (residual->kind() == ir::ExprKind::Add)
+    terms.assign(residual->operands().begin(), residual->operands().end());
+  else
+    terms.push_back(residual);
+  std::vector<std::pair<ir::VarId, double>> vars;
+  std::vector<ir::ExprRef> consts;
+  for (ir::ExprRef t : terms) {
+    if (auto v = unitVariable(t))
+      vars.push_back(*v);
+    else if (isConstantTerm(t))
+      consts.push_back(t);
+    else
+      return std::nullopt;
+  }
+  AliasEquation ae{eq, 0, 0, std::nullopt, 0, nullptr, {}};
+  if (vars.size() == 2 && consts.empty() && vars[0].first != vars[1].first) {
+    ae.a = vars[0].first;
+    ae.sa = vars[0].second;
+    ae.b = vars[1].first;
+    ae.sb = vars[1].second;
+    return ae;
+  }
+  if (vars.size() == 1) {
+    ae.a = vars[0].first;
+    ae.sa = vars[0].second;
+    ae.constant = consts.empty() ? ctx.zero() : ctx.add(consts);
+    return ae;
+  }
+  return std::nullopt;
+}
+
+int stateSelectRank(ir::StateSelect s) { return static_cast<int>(s); }
+
+/// Union-find with a sign: value(v) = sign[v] * value(parent[v]).
+struct SignedUnionFind {
+  std::vector<int> parent;
+  std::vector<double> sign;
+  explicit SignedUnionFind(size_t n) : parent(n), sign(n, 1.0) {
+    std::iota(parent.begin(), parent.end(), 0);
+  }
+  std::pair<int, double> find(int v) {
+    double s = 1.0;
+    int r = v;
+    while (parent[r] != r) {
+      s *= sign[r];
+      r = parent[r];
+    }
+    // Path compression keeping signs.
+    double acc = s;
+    int x = v;
+    while (parent[x] != x) {
+      int next = parent[x];
+      double sx = sign[x];
+      parent[x] = r;
+      sign[x] = acc;
+      acc /= sx;
+      x = next;
+    }
+    return {r, s};
+  }
+};
+
+} // namespace
+
+bool runAliasElimination(AnalysisState &s) {
+  ir::Model &m = s.model;
+  ir::ExprContext &ctx = m.ctx();
+  const size_t nv = m.variables.size();
+  s.eliminated.assign(nv, 0);
+
+  // Variables a reinit writes must survive (or be the representative).
+  std::vector<char> reinitTarget(nv, 0);
+  for (const ir::WhenClause &w : m.whenClauses)
+    for (const ir::Reinit &r : w.reinits)
+      reinitTarget[r.var] = 1;
+  std::vector<int> maxOrder(nv, 0);
+  for (const ir::Equation &e : m.equations)
+    for (ir::VarKey k : ir::freeVariables(e.residual))
+      maxOrder[k.var] = std::max<int>(maxOrder[k.var], k.order);
+
+  std::vector<AliasEquation> found;
+  for (size_t i = 0; i < m.equations.size(); ++i) {
+    auto ae = matchAlias(ctx, m.equations[i].residual, static_cast<int>(i));
+    if (!ae)
+      continue;
+    const ir::Variable &va = m.variables[ae->a];
+    if (va.isDiscrete || (ae->b && m.variables[*ae->b].isDiscrete))
+      continue;
+    if (!ae->b && reinitTarget[ae->a])
+      continue;
+    std::string na = va.name, nb = ae->b ? m.variables[*ae->b].name : "";
+    ae->key = std::min(na, nb) + "\x1f" + std::max(na, nb);
+    found.push_back(*ae);
+  }
+  // Canonical order: which of several redundant equations stays must not
+  // depend on where they were written.
+  std::sort(found.begin(), found.end(),
+            [](const AliasEquation &x, const AliasEquation &y) {
+              return x.key < y.key;
+            });
+
+  SignedUnionFind uf(nv);
+  std::vector<ir::ExprRef> classConst(nv, nullptr); // by root: root = const
+  std::vector<char> classReinit(nv, 0);
+  for (size_t v = 0; v < nv; ++v)
+    classReinit[v] = reinitTarget[v];
+  std::vector<char> removeEq(m.equations.size(), 0);
+  for (const AliasEquation &ae : found) {
+    auto [ra, sa] = uf.find(ae.a);
+    if (ae.b) {
+      auto [rb, sb] = uf.find(*ae.b);
+      if (ra == rb)
+        continue; // a cycle: the equation is redundant; structure reports it
+      if (classReinit[ra] && classReinit[rb])
+        continue;
+      if ((classConst[ra] && (classConst[rb] || classReinit[rb])) ||
+          (classConst[rb] && classReinit[ra]))
+        continue;
+      // sa_eq*a + sb_eq*b = 0 with a = sa*ra, b = sb*rb:
+      // ra = -(sb_eq*sb)/(sa_eq*sa) * rb.
+      uf.parent[ra] = rb;
+      uf.sign[ra] = -(ae.sb * sb) / (ae.sa * sa);
+      if (classConst[ra])
+        classConst[rb] = ctx.mul(ctx.constant(uf.sign[ra]), classConst[ra]);
+      classReinit[rb] = classReinit[rb] || classReinit[ra];
+    } else {
+      if (classConst[ra] || classReinit[ra])
+        continue;
+      // sa_eq*sa*ra + c = 0.
+      classConst[ra] = ctx.div(ctx.neg(ae.constant), ctx.constant(ae.sa * sa));
+    }
+    removeEq[ae.equation] = 1;
+  }
+
+  // Representatives: the best member of each class.
+  auto better = [&](ir::VarId x, ir::VarId y) {
+    const ir::Variable &a = m.variables[x], &b = m.variables[y];
+    auto key = [&](const ir::Variable &v, ir::VarId id) {
+      return std::make_tuple(reinitTarget[id] ? 1 : 0,
+                             v.fixed && v.hasStart ? 1 : 0, v.hasStart ? 1 : 0,
+                             stateSelectRank(v.stateSelect),
+                             maxOrder[id] > 0 ? 1 : 0);
+    };
+    auto kx = key(a, x), ky = key(b, y);
+    if (kx != ky)
+      return kx > ky;
+    auto depth = [](const std::string &n) {
+      return std::count(n.begin(), n.end(), '.');
+    };
+    if (depth(a.name) != depth(b.name))
+      return depth(a.name) < depth(b.name);
+    if (a.name.size() != b.name.size())
+      return a.name.size() < b.name.size();
+    return a.name < b.name;
+  };
+  std::vector<std::vector<ir::VarId>> members(nv);
+  std::vector<double> toRoot(nv, 1.0);
+  for (ir::VarId v = 0; v < nv; ++v) {
+    auto [r, sg] = uf.find(v);
+    toRoot[v] = sg;
+    members[r].push_back(v);
+  }
+
+  ir::Substitution subst(ctx);
+  auto setAll = [&](ir::VarId v, unsigned top, auto valueAtOrder) {
+    for (unsigned k = 0; k <= top; ++k)
+      subst.set(ctx.var(v, k), valueAtOrder(k));
+  };
+  for (ir::VarId root = 0; root < nv; ++root) {
+    const std::vector<ir::VarId> &cls = members[root];
+    if (cls.size() < 2 && !classConst[root])
+      continue;
+    if (classConst[root]) {
+      // Every member is a constant: value(v) = toRoot[v] * const.
+      for (ir::VarId v : cls) {
+        ir::ExprRef value = ctx.mul(ctx.constant(toRoot[v]), classConst[root]);
+        s.eliminated[v] = 1;
+        s.aliases.push_back({v, value});
+        setAll(v, maxOrder[v], [&](unsigned k) {
+          return k == 0 ? value : ctx.zero();
+        });
+        subst.set(ctx.pre(v), value);
+      }
+      continue;
+    }
+    ir::VarId rep = cls[0];
+    for (ir::VarId v : cls)
+      if (better(v, rep))
+        rep = v;
+    ir::Variable &rv = m.variables[rep];
+    for (ir::VarId v : cls) {
+      if (v == rep)
+        continue;
+      // value(v) = toRoot[v] * root = toRoot[v] / toRoot[rep] * rep.
+      double sg = toRoot[v] / toRoot[rep];
+      ir::Variable &av = m.variables[v];
+      // Merge attributes into the representative (in its sign).
+      if (av.hasStart) {
+        double st = sg * av.start;
+        if (av.fixed && rv.fixed && rv.hasStart &&
+            std::fabs(rv.start - st) > 1e-12 * (1 + std::fabs(st))) {
+          s.diags.report(DiagId::ErrAliasFixedConflict, av.loc,
+                         {av.name, ir::printNumber(av.start), rv.name,
+                          ir::printNumber(rv.start)});
+        } else if (!rv.hasStart || (av.fixed && !rv.fixed)) {
+          rv.start = st;
+          rv.hasStart = true;
+          rv.fixed = rv.fixed || av.fixed;
+        }
+      }
+      if (rv.nominal == 1 && av.nominal != 1)
+        rv.nominal = av.nominal;
+      double lo = sg > 0 ? av.min : -av.max, hi = sg > 0 ? av.max : -av.min;
+      rv.min = std::max(rv.min, lo);
+      rv.max = std::min(rv.max, hi);
+      if (stateSelectRank(av.stateSelect) > stateSelectRank(rv.stateSelect))
+        rv.stateSelect = av.stateSelect;
+      s.eliminated[v] = 1;
+      ir::ExprRef value = ctx.mul(ctx.constant(sg), ctx.var(rep));
+      s.aliases.push_back({v, value});
+      setAll(v, maxOrder[v], [&](unsigned k) {
+        return ctx.mul(ctx.constant(sg), ctx.var(rep, k));
+      });
+      subst.set(ctx.pre(v), ctx.mul(ctx.constant(sg), ctx.pre(rep)));
+    }
+  }
+  if (s.diags.hasErrors())
+    return false;
+
+  // Apply: drop the alias equations, rewrite everything else.
+  std::vector<ir::Equation> kept;
+  for (size_t i = 0; i < m.equations.size(); ++i) {
+    if (removeEq[i])
+      continue;
+    ir::Equation e = m.equations[i];
+    e.residual = subst.apply(e.residual);
+    kept.push_back(std::move(e));
+  }
+  m.equations = std::move(kept);
+  for (ir::Equation &e : m.initialEquations)
+    e.residual = subst.apply(e.residual);
+  for (ir::WhenClause &w : m.whenClauses) {
+    w.condition = subst.apply(w.condition);
+    for (ir::Reinit &r : w.reinits) {
+      r.value = subst.apply(r.value);
+      if (s.eliminated[r.var]) {
+        // The representative takes the reinit, in its own sign.
+        ir::ExprRef alias = subst.apply(ctx.var(r.var));
+        if (alias->kind() == ir::ExprKind::Mul) {
+          r.value = ctx.mul(alias->operand(0), r.value);
+          r.var = alias->operand(1)->var();
+        } else if (alias->kind() == ir::ExprKind::Variable) {
+          r.var = alias->var();
+        }
+      }
+    }
+    for (ir::Equation &e : w.equations)
+      e.residual = subst.apply(e.residual);
+  }
+
+  std::sort(s.aliases.begin(), s.aliases.end(),
+            [&](const Alias &x, const Alias &y) {
+              return m.variables[x.var].name < m.variables[y.var].name;
+            });
+  s.result.aliasesRemoved = static_cast<int>(s.aliases.size());
+  for (const Alias &a : s.aliases)
+    s.result.aliases.push_back(m.variables[a.var].name + " = " +
+                               ir::printLsd(a.value, &m));
+  return true;
+}
+
+} // namespace ldae::passes

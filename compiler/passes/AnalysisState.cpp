@@ -1,0 +1,48 @@
+// Helpers shared by the passes: locations and texts for messages, and the
+// start point at which value-dependent choices are made.
+#include "passes/AnalysisState.h"
+
+#include "ir/Print.h"
+
+namespace ldae::passes {
+
+std::string AnalysisState::where(SourceLoc loc) const {
+  if (!loc.valid())
+    return "";
+  // Diagnostics print the path as given; equations point into the same file.
+  return diags.sources().path(loc.file) + ":" + std::to_string(loc.line);
+}
+
+std::string AnalysisState::equationText(int e) const {
+  const ir::Equation &eq = model.equations[e];
+  if (!eq.text.empty())
+    return eq.text;
+  return ir::printLsd(eq.residual, &model) + " = 0";
+}
+
+ir::EvalEnv AnalysisState::startEnv() const {
+  ir::EvalEnv env;
+  const ir::Model *m = &model;
+  env.variable = [m](ir::VarKey k) {
+    if (k.order != 0 || k.var >= m->variables.size())
+      return 0.0;
+    return m->variables[k.var].start;
+  };
+  std::vector<double> params = model.parameterValues();
+  env.parameter = [params](ir::ParamId p) {
+    return p < params.size() ? params[p] : 0.0;
+  };
+  return env;
+}
+
+std::string quotedList(const std::vector<std::string> &items) {
+  std::string out;
+  for (size_t i = 0; i < items.size(); ++i) {
+    if (i > 0)
+      out += i + 1 == items.size() ? " and " : ", ";
+    out += quoted(items[i]);
+  }
+  return out;
+}
+
+} // namespace ldae::passes

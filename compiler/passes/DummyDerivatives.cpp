@@ -1,0 +1,569 @@
+// Pass "dummy-derivatives" (Mattsson & Söderlind 1993). After Pantelides,
+// level l = 1..max(c) holds the equations differentiated at least l times
+// (each at c_i - l differentiations) and the unknowns whose highest order
+// d_j is at least l (each at order d_j - l). At each level as many of those
+// unknowns as there are equations are selected, with a nonsingular
+// Jacobian; the derivative of each selected one (order d_j - l + 1) becomes
+// a dummy derivative, an algebraic unknown. Selections nest: one made at a
+// higher level is forced at every lower one.
+//
+// We choose top-down (the smallest, most value-dependent level first) and
+// complete each lower level by augmenting paths from the forced selection,
+// which keeps it sparse. Candidates are ranked by stateSelect (never and
+// avoid first), then by the size of their Jacobian entry at the start point
+// (conditioning), then by derivative order, then by name. Where the top
+// level has small blocks whose choice depends on values (the pendulum: x or
+// y), every structurally possible choice becomes a candidate state set for
+// dynamic state selection at run time.
+#include "passes/AnalysisState.h"
+
+#include "graph/DulmageMendelsohn.h"
+#include "graph/Matching.h"
+#include "ir/Differentiate.h"
+#include "ir/Query.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+
+namespace ldae::passes {
+
+namespace {
+
+constexpr int kMaxAmbiguousRows = 3;
+constexpr int kMaxAmbiguousCols = 8;
+constexpr size_t kMaxStateSets = 16;
+constexpr int kDenseCheckLimit = 200;
+
+struct Edge {
+  int col;
+  ir::ExprRef partial;
+  double value;
+};
+
+struct Level {
+  std::vector<int> rowEq;   // original equation (row of s.rows chain start)
+  std::vector<int> row;     // row of s.rows at this level
+  std::vector<int> colVar;  // unknown index
+  std::vector<int> colOfVar; // unknown -> local column or -1
+  std::vector<int> rowOfEq;  // original equation -> local row or -1
+  graph::BipartiteGraph g;   // adjacency sorted by preference
+  std::vector<std::vector<Edge>> edges; // per row, same order as g.rows
+};
+
+class Selector {
+public:
+  explicit Selector(AnalysisState &s) : s_(s), diff_(s.model.ctx()) {}
+
+  void buildLevels();
+  /// A full selection; `topOverride` forces top-level pairs (row, col).
+  /// Returns the selected unknowns per level (index l-1), or empty on failure.
+  std::vector<std::vector<int>>
+  choose(const std::vector<std::pair<int, int>> &topOverride);
+  DummyChoice toChoice(const std::vector<std::vector<int>> &sel) const;
+  void findAmbiguous(const std::vector<int> &topSelection);
+
+  int levels() const { return static_cast<int>(levels_.size()); }
+  const Level &level(int l) const { return levels_[l - 1]; }
+
+  struct Ambiguous {
+    std::vector<int> rows, cols;                // local, top level
+    std::vector<std::vector<int>> alternatives; // column subsets
+  };
+  std::vector<Ambiguous> ambiguous;
+  std::string failure;
+
+  /// The pivot matrix (column-major) of the ambiguous blocks of `sel`'s top
+  /// level.
+  std::vector<ir::ExprRef> pivot(const std::vector<int> &topSel,
+                                 unsigned &size) const;
+
+private:
+  ir::ExprRef entry(const Level &lv, int r, int c) const;
+  bool fixDense(Level &lv, int levelIndex, graph::Matching &m,
+                const std::vector<char> &forcedCol);
+
+  AnalysisState &s_;
+  ir::Differentiator diff_;
+  std::vector<Level> levels_;
+};
+
+double magnitudeClass(double v, double rowMax) {
+  if (!std::isfinite(v))
+    return 2;
+  return std::fabs(v) >= 0.1 * rowMax && v != 0 ? 0 : 1;
+}
+
+void Selector::buildLevels() {
+  const int L = s_.maxTimes;
+  const int nu = static_cast<int>(s_.unknowns.size());
+  const int ne = static_cast<int>(s_.equations.size());
+  ir::EvalEnv env = s_.startEnv();
+  levels_.resize(L);
+  for (int l = 1; l <= L; ++l) {
+    Level &lv = levels_[l - 1];
+    lv.colOfVar.assign(nu, -1);
+    lv.rowOfEq.assign(ne, -1);
+    for (int j = 0; j < nu; ++j)
+      if (s_.highest[j] >= l) {
+        lv.colOfVar[j] = static_cast<int>(lv.colVar.size());
+        lv.colVar.push_back(j);
+      }
+    for (int i = 0; i < ne; ++i) {
+      std::vector<int> chain{i};
+      while (s_.rows[chain.back()].next >= 0)
+        chain.push_back(s_.rows[chain.back()].next);
+      int c = static_cast<int>(chain.size()) - 1;
+      if (c < l)
+        continue;
+      lv.rowOfEq[i] = static_cast<int>(lv.row.size());
+      lv.rowEq.push_back(i);
+      lv.row.push_back(chain[c - l]);
+    }
+    lv.g = graph::BipartiteGraph(static_cast<int>(lv.row.size()),
+                                 static_cast<int>(lv.colVar.size()));
+    lv.edges.resize(lv.row.size());
+    // Group edges by column so the differentiator's cache is reused.
+    std::vector<std::vector<int>> rowsOfCol(lv.colVar.size());
+    for (size_t r = 0; r < lv.row.size(); ++r)
+      for (ir::VarKey k : ir::freeVariables(s_.rows[lv.row[r]].residual)) {
+        if (k.var >= s_.unknownIndex.size() || s_.unknownIndex[k.var] < 0)
+          continue;
+        int j = s_.unknownIndex[k.var];
+        int c = lv.colOfVar[j];
+        if (c >= 0 && static_cast<int>(k.order) == s_.highest[j] - l)
+          rowsOfCol[c].push_back(static_cast<int>(r));
+      }
+    for (size_t c = 0; c < lv.colVar.size(); ++c) {
+      int j = lv.colVar[c];
+      ir::VarKey key{s_.unknowns[j], static_cast<unsigned>(s_.highest[j] - l)};
+      for (int r : rowsOfCol[c]) {
+        ir::ExprRef d = diff_.partial(s_.rows[lv.row[r]].residual, key);
+        if (d->isConstant(0))
+          continue; // cancelled
+        auto v = ir::evaluate(d, env);
+        lv.edges[r].push_back(
+            {static_cast<int>(c), d,
+             v ? *v : std::numeric_limits<double>::quiet_NaN()});
+      }
+    }
+    // Preference order inside each row: the candidate to make a dummy first.
+    for (size_t r = 0; r < lv.row.size(); ++r) {
+      std::vector<Edge> &es = lv.edges[r];
+      double rowMax = 0;
+      for (const Edge &e : es)
+        if (std::isfinite(e.value))
+          rowMax = std::max(rowMax, std::fabs(e.value));
+      auto key = [&](const Edge &e) {
+        const ir::Variable &v =
+            s_.model.variables[s_.unknowns[lv.colVar[e.col]]];
+        return std::make_tuple(static_cast<int>(v.stateSelect),
+                               magnitudeClass(e.value, rowMax),
+                               -s_.highest[lv.colVar[e.col]], v.name);
+      };
+      std::stable_sort(es.begin(), es.end(), [&](const Edge &a, const Edge &b) {
+        return key(a) < key(b);
+      });
+      for (const Edge &e : es)
+        lv.g.rows[r].push_back(e.col);
+    }
+  }
+}
+
+ir::ExprRef Selector::entry(const Level &lv, int r, int c) const {
+  for (const Edge &e : lv.edges[r])
+    if (e.col == c)
+      return e.partial;
+  return nullptr;
+}
+
+// Dense column-pivoted elimination of the components of level `lv` whose
+// selected submatrix is numerically singular at the start point: forced
+// columns first, then the best-ranked column with a usable pivot.
+bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
+                        const std::vector<char> &forcedCol) {
+  graph::DmPart all;
+  for (int r = 0; r < lv.g.numRows(); ++r)
+    all.rows.push_back(r);
+  for (int c = 0; c < lv.g.numCols; ++c)
+    all.cols.push_back(c);
+  bool ok = true;
+  for (const graph::DmPart &piece : graph::connectedPieces(lv.g, all)) {
+    const int nr = static_cast<int>(piece.rows.size());
+    if (nr == 0 || nr > kDenseCheckLimit)
+      continue;
+    std::vector<int> sel;
+    for (int r : piece.rows)
+      sel.push_back(m.rowMate[r]);
+    std::map<int, int> colPos;
+    for (size_t k = 0; k < piece.cols.size(); ++k)
+      colPos[piece.cols[k]] = static_cast<int>(k);
+    std::map<int, int> rowPos;
+    for (size_t k = 0; k < piece.rows.size(); ++k)
+      rowPos[piece.rows[k]] = static_cast<int>(k);
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(nr, piece.cols.size());
+    std::vector<int> rank(piece.cols.size(), 0); // preference rank of column
+    for (int r : piece.rows)
+      for (size_t k = 0; k < lv.edges[r].size(); ++k) {
+        const Edge &e = lv.edges[r][k];
+        A(rowPos[r], colPos[e.col]) = std::isfinite(e.value) ? e.value : 0;
+      }
+    Eigen::MatrixXd S(nr, nr);
+    for (int k = 0; k < nr; ++k)
+      S.col(k) = A.col(colPos[sel[k]]);
+    Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
+    lu.setThreshold(1e-10);
+    if (lu.rank() == nr)
+      continue;
+    // Rank columns by stateSelect then name (the magnitude is what pivoting
+    // measures here).
+    std::vector<int> order(piece.cols.size());
+    for (size_t k = 0; k < order.size(); ++k)
+      order[k] = static_cast<int>(k);
+    auto prefKey = [&](int k) {
+      const ir::Variable &v =
+          s_.model.variables[s_.unknowns[lv.colVar[piece.cols[k]]]];
+      return std::make_tuple(forcedCol[piece.cols[k]] ? 0 : 1,
+                             static_cast<int>(v.stateSelect),
+                             -s_.highest[lv.colVar[piece.cols[k]]], v.name);
+    };
+    std::sort(order.begin(), order.end(),
+              [&](int a, int b) { return prefKey(a) < prefKey(b); });
+    std::vector<char> rowUsed(nr, 0);
+    std::vector<std::pair<int, int>> chosen; // (row pos, col pos)
+    double scale = A.cwiseAbs().maxCoeff();
+    for (int k : order) {
+      if (static_cast<int>(chosen.size()) == nr)
+        break;
+      int best = -1;
+      double bestVal = 1e-10 * std::max(scale, 1.0);
+      for (int r = 0; r < nr; ++r)
+        if (!rowUsed[r] && std::fabs(A(r, k)) > bestVal) {
+          bestVal = std::fabs(A(r, k));
+          best = r;
+        }
+      if (best < 0) {
+        if (forcedCol[piece.cols[k]])
+          ok = false; // a forced column became dependent
+        continue;
+      }
+      rowUsed[best] = 1;
+      chosen.emplace_back(best, k);
+      // Eliminate the column's pivot from the other rows.
+      for (int r = 0; r < nr; ++r)
+        if (r != best && A(r, k) != 0)
+          A.row(r) -= (A(r, k) / A(best, k)) * A.row(best);
+    }
+    if (static_cast<int>(chosen.size()) < nr) {
+      ok = false;
+      continue;
+    }
+    // The new selection must still be structurally matchable; re-match the
+    // piece's rows to the chosen columns.
+    graph::BipartiteGraph sub(nr, nr);
+    std::vector<int> chosenCols;
+    for (auto [r, k] : chosen)
+      chosenCols.push_back(piece.cols[k]);
+    for (int r = 0; r < nr; ++r)
+      for (int k = 0; k < nr; ++k)
+        if (entry(lv, piece.rows[r], chosenCols[k]))
+          sub.addEdge(r, k);
+    graph::Matching sm = graph::maximumMatching(sub);
+    if (sm.size < nr) {
+      ok = false;
+      continue;
+    }
+    for (int r : piece.rows)
+      if (m.rowMate[r] >= 0)
+        m.colMate[m.rowMate[r]] = -1;
+    for (int r = 0; r < nr; ++r) {
+      m.rowMate[piece.rows[r]] = chosenCols[sm.rowMate[r]];
+      m.colMate[chosenCols[sm.rowMate[r]]] = piece.rows[r];
+    }
+  }
+  (void)levelIndex;
+  return ok;
+}
+
+std::vector<std::vector<int>>
+Selector::choose(const std::vector<std::pair<int, int>> &topOverride) {
+  const int L = levels();
+  std::vector<std::vector<int>> selected(L);
+  std::vector<std::pair<int, int>> prev; // (original equation, unknown)
+  for (int l = L; l >= 1; --l) {
+    Level &lv = levels_[l - 1];
+    graph::Matching init(lv.g.numRows(), lv.g.numCols);
+    std::vector<char> forced(lv.g.numCols, 0);
+    auto hasEdge = [&](int r, int c) {
+      const std::vector<int> &adj = lv.g.rows[r];
+      return std::find(adj.begin(), adj.end(), c) != adj.end();
+    };
+    for (auto [i, j] : prev) {
+      int r = lv.rowOfEq[i], c = lv.colOfVar[j];
+      if (r < 0 || c < 0 || !hasEdge(r, c)) {
+        failure = "the selection of level " + std::to_string(l + 1) +
+                  " does not carry to level " + std::to_string(l);
+        return {};
+      }
+      init.match(r, c);
+      forced[c] = 1;
+    }
+    if (l == L)
+      for (auto [r, c] : topOverride) {
+        init.match(r, c);
+        forced[c] = 1;
+      }
+    graph::Matching m = graph::maximumMatching(lv.g, {}, &init);
+    if (m.size < lv.g.numRows()) {
+      failure = "no nonsingular choice of dummy derivatives at level " +
+                std::to_string(l);
+      return {};
+    }
+    if (!fixDense(lv, l, m, forced)) {
+      failure = "the Jacobian of the differentiated equations at level " +
+                std::to_string(l) + " is singular at the start point";
+      // Keep the structural choice: a singular start point is a warning.
+    }
+    prev.clear();
+    for (int r = 0; r < lv.g.numRows(); ++r) {
+      prev.emplace_back(lv.rowEq[r], lv.colVar[m.rowMate[r]]);
+      selected[l - 1].push_back(lv.colVar[m.rowMate[r]]);
+    }
+  }
+  return selected;
+}
+
+DummyChoice
+Selector::toChoice(const std::vector<std::vector<int>> &sel) const {
+  DummyChoice lowest(s_.unknowns.size());
+  for (size_t j = 0; j < lowest.size(); ++j)
+    lowest[j] = s_.highest[j] + 1;
+  // Selected at level l: der of order (d_j - l) is a dummy, i.e. order
+  // d_j - l + 1 and above.
+  for (int l = 1; l <= static_cast<int>(sel.size()); ++l)
+    for (int j : sel[l - 1])
+      lowest[j] = std::min(lowest[j], s_.highest[j] - l + 1);
+  return lowest;
+}
+
+void Selector::findAmbiguous(const std::vector<int> &topSelection) {
+  if (levels_.empty())
+    return;
+  const Level &top = levels_.back();
+  graph::DmPart all;
+  for (int r = 0; r < top.g.numRows(); ++r)
+    all.rows.push_back(r);
+  for (int c = 0; c < top.g.numCols; ++c)
+    all.cols.push_back(c);
+  std::mt19937 rng(12345);
+  std::uniform_real_distribution<double> uni(0.5, 1.5);
+  for (const graph::DmPart &piece : graph::connectedPieces(top.g, all)) {
+    const int nr = static_cast<int>(piece.rows.size());
+    const int nc = static_cast<int>(piece.cols.size());
+    if (nr == 0 || nr > kMaxAmbiguousRows || nc > kMaxAmbiguousCols ||
+        nc <= nr)
+      continue;
+    bool valueDependent = false;
+    for (int r : piece.rows)
+      for (const Edge &e : top.edges[r])
+        valueDependent = valueDependent || !e.partial->isConstant();
+    if (!valueDependent)
+      continue;
+    // Generic values: a random point, so only identically singular choices
+    // are rejected.
+    std::map<ir::VarKey, double> generic;
+    ir::EvalEnv env = s_.startEnv();
+    env.variable = [&](ir::VarKey k) {
+      auto it = generic.find(k);
+      if (it == generic.end())
+        it = generic.emplace(k, uni(rng)).first;
+      return it->second;
+    };
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(nr, nc);
+    for (int r = 0; r < nr; ++r)
+      for (const Edge &e : top.edges[piece.rows[r]]) {
+        int k = static_cast<int>(
+            std::find(piece.cols.begin(), piece.cols.end(), e.col) -
+            piece.cols.begin());
+        auto v = ir::evaluate(e.partial, env);
+        A(r, k) = v ? *v : 0;
+      }
+    // Columns by name so the alternatives come in a canonical order.
+    std::vector<int> byName(nc);
+    for (int k = 0; k < nc; ++k)
+      byName[k] = k;
+    auto nameOf = [&](int k) {
+      return s_.model.variables[s_.unknowns[top.colVar[piece.cols[k]]]].name;
+    };
+    std::sort(byName.begin(), byName.end(),
+              [&](int a, int b) { return nameOf(a) < nameOf(b); });
+    Ambiguous amb{piece.rows, piece.cols, {}};
+    std::vector<int> pick(nr);
+    std::function<void(int, int)> rec = [&](int start, int depth) {
+      if (depth == nr) {
+        Eigen::MatrixXd S(nr, nr);
+        std::vector<int> cols;
+        for (int k = 0; k < nr; ++k) {
+          S.col(k) = A.col(pick[k]);
+          cols.push_back(piece.cols[pick[k]]);
+        }
+        if (Eigen::FullPivLU<Eigen::MatrixXd>(S).rank() == nr)
+          amb.alternatives.push_back(cols);
+        return;
+      }
+      for (int k = start; k < nc; ++k) {
+        pick[depth] = byName[k];
+        rec(k + 1, depth + 1);
+      }
+    };
+    rec(0, 0);
+    if (amb.alternatives.size() < 2)
+      continue;
+    // Never let a stateSelect = always unknown be the dummy when another
+    // choice exists.
+    std::vector<std::vector<int>> allowed;
+    for (const std::vector<int> &alt : amb.alternatives) {
+      bool always = false;
+      for (int c : alt)
+        always = always ||
+                 s_.model.variables[s_.unknowns[top.colVar[c]]].stateSelect ==
+                     ir::StateSelect::Always;
+      if (!always)
+        allowed.push_back(alt);
+    }
+    if (allowed.size() >= 2)
+      amb.alternatives = allowed;
+    else if (allowed.size() == 1)
+      continue;
+    (void)topSelection;
+    ambiguous.push_back(std::move(amb));
+  }
+}
+
+std::vector<ir::ExprRef> Selector::pivot(const std::vector<int> &topSel,
+                                         unsigned &size) const {
+  // topSel: selected unknowns at the top level (one per top row, in row
+  // order). The pivot is block diagonal over the ambiguous blocks.
+  const Level &top = levels_.back();
+  size = 0;
+  for (const Ambiguous &a : ambiguous)
+    size += static_cast<unsigned>(a.rows.size());
+  ir::ExprContext &ctx = s_.model.ctx();
+  std::vector<ir::ExprRef> M(size * size, ctx.zero());
+  unsigned offset = 0;
+  for (const Ambiguous &a : ambiguous) {
+    std::vector<int> cols;
+    for (int r : a.rows)
+      cols.push_back(top.colOfVar[topSel[r]]);
+    std::sort(cols.begin(), cols.end());
+    for (size_t r = 0; r < a.rows.size(); ++r)
+      for (size_t k = 0; k < cols.size(); ++k) {
+        ir::ExprRef e = entry(top, a.rows[r], cols[k]);
+        M[(offset + k) * size + offset + r] = e ? e : ctx.zero();
+      }
+    offset += static_cast<unsigned>(a.rows.size());
+  }
+  return M;
+}
+
+} // namespace
+
+bool runDummyDerivatives(AnalysisState &s) {
+  s.choices.clear();
+  s.pivots.clear();
+  s.pivotSizes.clear();
+  const bool raw = s.opts.method == "raw";
+  if (raw || s.maxTimes == 0) {
+    DummyChoice none(s.unknowns.size());
+    for (size_t j = 0; j < none.size(); ++j)
+      none[j] = (raw ? s.originalOrder[j] : s.highest[j]) + 1;
+    s.choices.push_back(none);
+    s.pivots.emplace_back();
+    s.pivotSizes.push_back(0);
+    return buildSystem(s);
+  }
+
+  Selector sel(s);
+  sel.buildLevels();
+  std::vector<std::vector<int>> first = sel.choose({});
+  if (first.empty()) {
+    s.diags.report(DiagId::ErrIndexReductionFailed, s.model.loc,
+                   {sel.failure});
+    return false;
+  }
+  if (!sel.failure.empty())
+    s.diags.report(DiagId::WarningGeneric, s.model.loc,
+                   {"index reduction: " + sel.failure});
+  sel.findAmbiguous(first.back());
+  std::vector<std::vector<std::vector<int>>> selections{first};
+  // Alternatives: one ambiguous block switched at a time.
+  const Level &top = sel.level(sel.levels());
+  for (size_t a = 0; a < sel.ambiguous.size(); ++a) {
+    const auto &amb = sel.ambiguous[a];
+    for (const std::vector<int> &alt : amb.alternatives) {
+      if (selections.size() >= kMaxStateSets)
+        break;
+      // Match the block's rows to the alternative's columns.
+      graph::BipartiteGraph sub(static_cast<int>(amb.rows.size()),
+                                static_cast<int>(alt.size()));
+      for (size_t r = 0; r < amb.rows.size(); ++r)
+        for (size_t k = 0; k < alt.size(); ++k) {
+          const std::vector<int> &adj = top.g.rows[amb.rows[r]];
+          if (std::find(adj.begin(), adj.end(), alt[k]) != adj.end())
+            sub.addEdge(static_cast<int>(r), static_cast<int>(k));
+        }
+      graph::Matching sm = graph::maximumMatching(sub);
+      std::vector<std::pair<int, int>> override;
+      for (size_t r = 0; r < amb.rows.size(); ++r)
+        override.emplace_back(amb.rows[r], alt[sm.rowMate[r]]);
+      // Keep the other blocks as in the first choice.
+      for (size_t b = 0; b < sel.ambiguous.size(); ++b)
+        if (b != a)
+          for (int r : sel.ambiguous[b].rows)
+            override.emplace_back(r, top.colOfVar[first.back()[r]]);
+      std::vector<std::vector<int>> choice = sel.choose(override);
+      if (choice.empty())
+        continue;
+      bool duplicate = false;
+      for (const auto &prev : selections)
+        duplicate = duplicate || sel.toChoice(prev) == sel.toChoice(choice);
+      if (!duplicate)
+        selections.push_back(choice);
+    }
+  }
+  for (const auto &choice : selections) {
+    s.choices.push_back(sel.toChoice(choice));
+    unsigned size = 0;
+    if (sel.ambiguous.empty()) {
+      s.pivots.emplace_back();
+    } else {
+      s.pivots.push_back(sel.pivot(choice.back(), size));
+    }
+    s.pivotSizes.push_back(size);
+  }
+
+  // The result must need as many dummies as there were differentiations.
+  int dummies = 0, diffs = 0;
+  for (size_t j = 0; j < s.unknowns.size(); ++j)
+    dummies += s.highest[j] + 1 - s.choices[0][j];
+  for (const DifferentiatedEquation &d : s.result.differentiated)
+    diffs += d.times;
+  if (dummies != diffs) {
+    s.diags.report(DiagId::ErrIndexReductionFailed, s.model.loc,
+                   {std::to_string(diffs) + " differentiations but " +
+                    std::to_string(dummies) + " dummy derivatives"});
+    return false;
+  }
+  for (size_t j = 0; j < s.unknowns.size(); ++j) {
+    const ir::Variable &v = s.model.variables[s.unknowns[j]];
+    if (v.stateSelect == ir::StateSelect::Always && s.highest[j] > 0 &&
+        s.choices[0][j] <= s.highest[j] && s.choices[0][j] <= 1)
+      s.diags.report(DiagId::WarnStateSelectAlways, v.loc, {v.name});
+  }
+  return buildSystem(s);
+}
+
+} // namespace ldae::passes

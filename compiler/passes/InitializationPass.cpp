@@ -1,0 +1,272 @@
+// Pass "init": the initialization system of the index-1 system at the
+// start time: every residual (so every constraint index reduction found),
+// the fixed start values and the initial equations, over y and the
+// derivatives of the states. Start values without `fixed` are guesses.
+// Over-specified conditions are found structurally (Dulmage–Mendelsohn:
+// which fixed values over-determine what, how many the model can take,
+// which to free), then checked numerically: redundant conditions that
+// agree are accepted with a warning, conflicting ones are an error. A rank
+// check at the start point catches dependencies structure cannot see.
+#include "passes/AnalysisState.h"
+#include "passes/SystemStructure.h"
+
+#include "graph/DulmageMendelsohn.h"
+#include "graph/Matching.h"
+#include "ir/Query.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ldae::passes {
+
+namespace {
+
+constexpr int kDenseLimit = 400;
+
+/// Rows of the initialization system and how to evaluate them.
+struct InitSystem {
+  graph::BipartiteGraph g;
+  std::vector<ir::ExprRef> expr; // residual rows (nullptr for fixed rows)
+  std::vector<int> fixedUnknown; // per row: the fixed unknown or -1
+  std::vector<SourceLoc> loc;
+  std::vector<std::string> text;
+  std::vector<double> start; // per column
+  std::vector<std::string> colName;
+  std::vector<int> colOfDerivative; // unknown -> column of y' or -1
+};
+
+/// Evaluates rows `rows` at column values `x` (columns outside `cols` at
+/// their start values).
+Eigen::VectorXd evalRows(const AnalysisState &s, const InitSystem &is,
+                         const SystemLayout &layout,
+                         const std::vector<int> &rows,
+                         const std::vector<double> &x) {
+  ir::EvalEnv env = s.startEnv();
+  env.variable = [&](ir::VarKey k) {
+    SlotRead sr = layout.read(k);
+    if (sr.unknown < 0)
+      return 0.0;
+    int c = sr.derivative ? is.colOfDerivative[sr.unknown] : sr.unknown;
+    return c >= 0 ? x[c] : 0.0;
+  };
+  Eigen::VectorXd r(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    int row = rows[i];
+    if (is.fixedUnknown[row] >= 0) {
+      r[i] = x[is.fixedUnknown[row]] - is.start[is.fixedUnknown[row]];
+      continue;
+    }
+    auto v = ir::evaluate(is.expr[row], env);
+    r[i] = v ? *v : std::numeric_limits<double>::quiet_NaN();
+  }
+  return r;
+}
+
+/// Finite-difference Jacobian of `rows` with respect to `cols` at `x`.
+Eigen::MatrixXd jacobian(const AnalysisState &s, const InitSystem &is,
+                         const SystemLayout &layout,
+                         const std::vector<int> &rows,
+                         const std::vector<int> &cols, std::vector<double> x) {
+  Eigen::VectorXd r0 = evalRows(s, is, layout, rows, x);
+  Eigen::MatrixXd J(rows.size(), cols.size());
+  for (size_t k = 0; k < cols.size(); ++k) {
+    double h = 1e-7 * std::max(1.0, std::fabs(x[cols[k]]));
+    x[cols[k]] += h;
+    J.col(k) = (evalRows(s, is, layout, rows, x) - r0) / h;
+    x[cols[k]] -= h;
+  }
+  return J;
+}
+
+/// Gauss–Newton on `rows` over `cols`; true if they can all hold.
+bool solvable(const AnalysisState &s, const InitSystem &is,
+              const SystemLayout &layout, const std::vector<int> &rows,
+              const std::vector<int> &cols) {
+  std::vector<double> x = is.start;
+  for (int it = 0; it < 50; ++it) {
+    Eigen::VectorXd r = evalRows(s, is, layout, rows, x);
+    if (!r.allFinite())
+      return false;
+    double scale = 1;
+    for (int c : cols)
+      scale = std::max(scale, std::fabs(x[c]));
+    if (r.lpNorm<Eigen::Infinity>() < 1e-9 * scale)
+      return true;
+    Eigen::MatrixXd J = jacobian(s, is, layout, rows, cols, x);
+    Eigen::VectorXd dx = J.completeOrthogonalDecomposition().solve(-r);
+    if (!dx.allFinite())
+      return false;
+    for (size_t k = 0; k < cols.size(); ++k)
+      x[cols[k]] += dx[k];
+  }
+  return false;
+}
+
+} // namespace
+
+bool runInitialization(AnalysisState &s) {
+  if (!s.haveSystem)
+    return true;
+  const ir::DaeSystem &sys = s.system;
+  const ir::StateSet &st = sys.stateSets[0];
+  const int n = static_cast<int>(sys.unknowns.size());
+  SystemLayout layout(sys, 0);
+  InitReport &rep = s.result.init;
+  rep = InitReport{};
+  rep.analyzed = true;
+
+  InitSystem is;
+  is.colOfDerivative.assign(n, -1);
+  for (int u = 0; u < n; ++u) {
+    is.start.push_back(sys.unknowns[u].start);
+    is.colName.push_back(sys.unknowns[u].name);
+  }
+  for (int u = 0; u < n; ++u)
+    if (st.differential[u]) {
+      is.colOfDerivative[u] = static_cast<int>(is.start.size());
+      is.start.push_back(sys.unknowns[u].startDerivative);
+      is.colName.push_back("der(" + sys.unknowns[u].name + ")");
+    }
+  is.g.numCols = static_cast<int>(is.start.size());
+  auto addRow = [&](ir::ExprRef e, int fixed, SourceLoc loc, std::string text) {
+    std::vector<int> cols;
+    if (fixed >= 0) {
+      cols.push_back(fixed);
+    } else {
+      for (ir::VarKey k : ir::freeVariables(e)) {
+        SlotRead sr = layout.read(k);
+        if (sr.unknown < 0)
+          continue;
+        cols.push_back(sr.derivative ? is.colOfDerivative[sr.unknown]
+                                     : sr.unknown);
+      }
+      std::sort(cols.begin(), cols.end());
+      cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+    }
+    is.g.addRow(std::move(cols));
+    is.expr.push_back(e);
+    is.fixedUnknown.push_back(fixed);
+    is.loc.push_back(loc);
+    is.text.push_back(std::move(text));
+  };
+  for (size_t r = 0; r < st.residuals.size(); ++r)
+    addRow(st.residuals[r], -1,
+           r < sys.residualLocs.size() ? sys.residualLocs[r] : SourceLoc{},
+           ir::printLsd(st.residuals[r], &s.model) + " = 0");
+  const int firstFixed = is.g.numRows();
+  for (int u = 0; u < n; ++u)
+    if (sys.unknowns[u].fixed) {
+      rep.fixed.push_back(sys.unknowns[u].name);
+      addRow(nullptr, u, sys.unknowns[u].loc,
+             sys.unknowns[u].name + " = " +
+                 ir::printNumber(sys.unknowns[u].start));
+    } else if (sys.unknowns[u].key.order == 0 &&
+               s.model.variables[sys.unknowns[u].key.var].hasStart) {
+      rep.guesses.push_back(sys.unknowns[u].name);
+    }
+  const int firstInitial = is.g.numRows();
+  for (size_t i = 0; i < sys.initialResiduals.size(); ++i) {
+    const ir::Equation *eq = i < s.model.initialEquations.size()
+                                 ? &s.model.initialEquations[i]
+                                 : nullptr;
+    addRow(sys.initialResiduals[i], -1, eq ? eq->loc : SourceLoc{},
+           eq && !eq->text.empty()
+               ? eq->text
+               : ir::printLsd(sys.initialResiduals[i], &s.model) + " = 0");
+  }
+  rep.initialEquations = is.g.numRows() - firstInitial;
+  rep.unknowns = is.g.numCols;
+  rep.equations = is.g.numRows();
+  rep.dof = rep.unknowns - rep.equations;
+
+  graph::Matching m = graph::maximumMatching(is.g);
+  for (int r = firstFixed; r < firstInitial; ++r)
+    if (m.rowMate[r] >= 0)
+      rep.honoured.push_back(is.colName[is.fixedUnknown[r]]);
+  if (m.size < is.g.numRows()) {
+    graph::DmDecomposition dm = graph::dulmageMendelsohn(is.g, m);
+    std::vector<int> fixedRows;
+    for (int r : dm.over.rows)
+      if (is.fixedUnknown[r] >= 0)
+        fixedRows.push_back(r);
+    if (fixedRows.empty()) {
+      SingularityNames names;
+      names.rowLoc = [&](int r) { return is.loc[r]; };
+      names.rowText = [&](int r) { return is.text[r]; };
+      names.colName = [&](int c) { return is.colName[c]; };
+      names.colLoc = [&](int c) {
+        return c < n ? sys.unknowns[c].loc : SourceLoc{};
+      };
+      diagnoseSingular(s, "initialization", is.g, m, names, {}, false);
+      rep.consistent = false;
+      return false;
+    }
+    int canTake = 0;
+    for (int r : fixedRows) {
+      const std::string &name = is.colName[is.fixedUnknown[r]];
+      rep.conflicting.push_back(name);
+      if (m.rowMate[r] >= 0)
+        ++canTake;
+      else
+        rep.toFree.push_back(name);
+    }
+    if (solvable(s, is, layout, dm.over.rows, dm.over.cols) &&
+        static_cast<int>(dm.over.cols.size()) <= kDenseLimit) {
+      s.diags.report(DiagId::WarnInitRedundant,
+                     is.loc[fixedRows.front()],
+                     {quotedList(rep.conflicting)});
+      rep.consistent = true;
+    } else {
+      Diagnostic &d = s.diags.report(
+          DiagId::ErrInitOverSpecified, is.loc[fixedRows.front()],
+          {quotedList(rep.conflicting), std::to_string(canTake),
+           quotedList(rep.toFree)});
+      for (int r : dm.over.rows)
+        if (is.fixedUnknown[r] < 0)
+          DiagnosticEngine::addNote(d, is.loc[r], DiagId::NoteEquationInvolved,
+                                    {is.text[r]});
+      rep.consistent = false;
+      return false;
+    }
+    return true;
+  }
+
+  // Numeric rank at the start point: a fixed value the constraints already
+  // pin there cannot be met by Newton steps.
+  if (is.g.numCols <= kDenseLimit && firstInitial > firstFixed) {
+    std::vector<int> rows(is.g.numRows()), cols(is.g.numCols);
+    for (int r = 0; r < is.g.numRows(); ++r)
+      rows[r] = r;
+    for (int c = 0; c < is.g.numCols; ++c)
+      cols[c] = c;
+    Eigen::MatrixXd J = jacobian(s, is, layout, rows, cols, is.start);
+    if (J.allFinite()) {
+      // Add the fixed rows one by one after the residuals.
+      Eigen::MatrixXd base = J.topRows(firstFixed);
+      auto rankOf = [](const Eigen::MatrixXd &A) {
+        Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
+        lu.setThreshold(1e-9);
+        return static_cast<int>(lu.rank());
+      };
+      int rank = rankOf(base);
+      std::vector<std::string> dependent;
+      for (int r = firstFixed; r < firstInitial; ++r) {
+        Eigen::MatrixXd next(base.rows() + 1, base.cols());
+        next << base, J.row(r);
+        int nr = rankOf(next);
+        if (nr == rank)
+          dependent.push_back(is.colName[is.fixedUnknown[r]]);
+        base = std::move(next);
+        rank = nr;
+      }
+      if (!dependent.empty())
+        s.diags.report(DiagId::WarnInitNumericallyRedundant, SourceLoc{},
+                       {quotedList(dependent)});
+    }
+  }
+  return true;
+}
+
+} // namespace ldae::passes

@@ -1,0 +1,88 @@
+// Pass "matching": puts unknowns and equations in a canonical order (by
+// name and by equation content, never by source position) and matches
+// equations to unknowns with derivative orders merged. A complete matching
+// is exactly the condition under which Pantelides' algorithm ends; the
+// "dm" pass explains a failure.
+#include "passes/AnalysisState.h"
+
+#include "graph/Matching.h"
+#include "ir/Query.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace ldae::passes {
+
+bool runMatching(AnalysisState &s) {
+  ir::Model &m = s.model;
+  const size_t nv = m.variables.size();
+  if (s.eliminated.size() < nv)
+    s.eliminated.resize(nv, 0);
+
+  s.unknowns.clear();
+  for (ir::VarId v = 0; v < nv; ++v)
+    if (!s.eliminated[v] && !m.variables[v].isDiscrete)
+      s.unknowns.push_back(v);
+  std::sort(s.unknowns.begin(), s.unknowns.end(),
+            [&](ir::VarId a, ir::VarId b) {
+              return m.variables[a].name < m.variables[b].name;
+            });
+  s.unknownIndex.assign(nv, -1);
+  for (size_t j = 0; j < s.unknowns.size(); ++j)
+    s.unknownIndex[s.unknowns[j]] = static_cast<int>(j);
+
+  // Equation keys: the unknowns they contain (names and orders), then the
+  // user's text, then the printed residual.
+  struct Key {
+    std::vector<std::pair<std::string, unsigned>> vars;
+    std::string text;
+    std::string printed;
+    auto operator<=>(const Key &) const = default;
+  };
+  const size_t ne = m.equations.size();
+  std::vector<Key> keys(ne);
+  std::vector<std::vector<ir::VarKey>> inc(ne);
+  for (size_t i = 0; i < ne; ++i) {
+    for (ir::VarKey k : ir::freeVariables(m.equations[i].residual))
+      if (k.var < nv && s.unknownIndex[k.var] >= 0) {
+        inc[i].push_back(k);
+        keys[i].vars.emplace_back(m.variables[k.var].name, k.order);
+      }
+    std::sort(keys[i].vars.begin(), keys[i].vars.end());
+    keys[i].text = m.equations[i].text;
+  }
+  s.equations.resize(ne);
+  std::iota(s.equations.begin(), s.equations.end(), 0);
+  // Printing is costly: only equations whose cheaper keys tie need it.
+  std::sort(s.equations.begin(), s.equations.end(), [&](int a, int b) {
+    return std::tie(keys[a].vars, keys[a].text) <
+           std::tie(keys[b].vars, keys[b].text);
+  });
+  for (size_t i = 0; i + 1 < ne; ++i) {
+    int a = s.equations[i], b = s.equations[i + 1];
+    if (keys[a].vars == keys[b].vars && keys[a].text == keys[b].text) {
+      keys[a].printed = ir::printLsd(m.equations[a].residual, &m);
+      keys[b].printed = ir::printLsd(m.equations[b].residual, &m);
+    }
+  }
+  std::stable_sort(s.equations.begin(), s.equations.end(),
+                   [&](int a, int b) { return keys[a] < keys[b]; });
+
+  s.originalOrder.assign(s.unknowns.size(), 0);
+  s.merged = graph::BipartiteGraph(static_cast<int>(ne),
+                                   static_cast<int>(s.unknowns.size()));
+  for (size_t r = 0; r < ne; ++r) {
+    std::vector<int> &row = s.merged.rows[r];
+    for (ir::VarKey k : inc[s.equations[r]]) {
+      int j = s.unknownIndex[k.var];
+      s.originalOrder[j] = std::max<int>(s.originalOrder[j], k.order);
+      row.push_back(j);
+    }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+  }
+  s.mergedMatching = graph::maximumMatching(s.merged);
+  return true;
+}
+
+} // namespace ldae::passes

@@ -1,0 +1,127 @@
+// Pass "pantelides": finds which equations to differentiate, and how
+// often, on the model as written: a variable's derivatives der(x),
+// der(x, 2)... are columns chained by graph::Pantelides, so der(der(x))
+// needs no first-order form. Equations are differentiated symbolically
+// (ir::Differentiator::timeDerivative) as the algorithm asks, so the
+// incidence of a derivative is what the symbolic layer finds.
+#include "passes/AnalysisState.h"
+
+#include "graph/Pantelides.h"
+#include "ir/Differentiate.h"
+#include "ir/Query.h"
+#include "ir/Substitute.h"
+
+#include <algorithm>
+
+namespace ldae::passes {
+
+bool runPantelides(AnalysisState &s) {
+  ir::Model &m = s.model;
+  ir::ExprContext &ctx = m.ctx();
+  const int nu = static_cast<int>(s.unknowns.size());
+
+  // Columns: every unknown at every order 0..its highest in the model.
+  std::vector<std::vector<int>> colOf(nu);
+  std::vector<std::pair<int, unsigned>> colKey; // (unknown, order)
+  std::vector<int> varDiff;
+  for (int j = 0; j < nu; ++j)
+    for (int k = 0; k <= s.originalOrder[j]; ++k) {
+      int c = static_cast<int>(colKey.size());
+      colKey.emplace_back(j, k);
+      varDiff.push_back(-1);
+      if (k > 0)
+        varDiff[colOf[j].back()] = c;
+      colOf[j].push_back(c);
+    }
+  graph::BipartiteGraph g(0, static_cast<int>(colKey.size()));
+  s.rows.clear();
+  auto incidence = [&](ir::ExprRef e, graph::Pantelides *p) {
+    std::vector<int> cols;
+    for (ir::VarKey k : ir::freeVariables(e)) {
+      if (k.var >= s.unknownIndex.size() || s.unknownIndex[k.var] < 0)
+        continue;
+      int j = s.unknownIndex[k.var];
+      while (static_cast<int>(colOf[j].size()) <= static_cast<int>(k.order)) {
+        int c = p->derivativeColumn(colOf[j].back());
+        colKey.emplace_back(j, colOf[j].size());
+        colOf[j].push_back(c);
+      }
+      cols.push_back(colOf[j][k.order]);
+    }
+    return cols;
+  };
+  for (size_t r = 0; r < s.equations.size(); ++r) {
+    Row row;
+    row.residual = m.equations[s.equations[r]].residual;
+    row.equation = static_cast<int>(r);
+    s.rows.push_back(row);
+    g.addRow(incidence(row.residual, nullptr));
+  }
+
+  // Discrete variables are constant between events: their derivatives are 0.
+  ir::Substitution discrete(ctx);
+  bool anyDiscrete = false;
+  for (ir::VarId v = 0; v < m.variables.size(); ++v)
+    if (m.variables[v].isDiscrete)
+      for (unsigned k = 1; k <= 3; ++k) {
+        discrete.set(ctx.var(v, k), ctx.zero());
+        anyDiscrete = true;
+      }
+
+  graph::Pantelides p(std::move(g), std::move(varDiff));
+  ir::Differentiator diff(ctx);
+  auto hook = [&](int r) {
+    ir::ExprRef d = diff.timeDerivative(s.rows[r].residual);
+    if (anyDiscrete)
+      d = discrete.apply(d);
+    Row row;
+    row.residual = d;
+    row.equation = s.rows[r].equation;
+    row.times = s.rows[r].times + 1;
+    s.rows[r].next = static_cast<int>(s.rows.size());
+    s.rows.push_back(row);
+    return incidence(d, &p);
+  };
+  graph::Pantelides::Result res = p.run(hook);
+  if (res.status != graph::Pantelides::Status::Ok) {
+    s.diags.report(DiagId::ErrIndexReductionFailed, s.model.loc,
+                   {res.status == graph::Pantelides::Status::NoProgress
+                        ? "the differentiated equations lost unknowns the "
+                          "structure needs (cancellation)"
+                        : "the model is structurally singular"});
+    return false;
+  }
+
+  s.highest.assign(nu, 0);
+  for (int j = 0; j < nu; ++j) {
+    int c = colOf[j][0], k = 0;
+    while (p.varDiff()[c] >= 0) {
+      c = p.varDiff()[c];
+      ++k;
+    }
+    s.highest[j] = k;
+  }
+  s.maxTimes = 0;
+  bool anyAlgebraic = false;
+  for (int j = 0; j < nu; ++j)
+    anyAlgebraic = anyAlgebraic || s.highest[j] == 0;
+  for (size_t r = 0; r < s.equations.size(); ++r) {
+    int times = 0;
+    for (int x = s.rows[r].next; x >= 0; x = s.rows[x].next)
+      ++times;
+    s.maxTimes = std::max(s.maxTimes, times);
+    if (times > 0) {
+      const ir::Equation &eq = m.equations[s.equations[r]];
+      s.result.differentiated.push_back(
+          {s.equationText(s.equations[r]), s.where(eq.loc), times});
+    }
+  }
+  // Pryce's structural index: the most differentiations, plus one when an
+  // unknown stays algebraic (it needs one more to become an ODE).
+  s.result.structuralIndex = s.maxTimes + (anyAlgebraic ? 1 : 0);
+  s.result.differentiationIndex = s.result.structuralIndex;
+  s.reduced = true;
+  return true;
+}
+
+} // namespace ldae::passes

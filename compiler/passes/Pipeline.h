@@ -1,0 +1,112 @@
+// The public face of the analysis stage: runs the pass list (alias
+// elimination, matching, Dulmage–Mendelsohn diagnosis, Pantelides, dummy
+// derivatives, BLT, output pruning, initialization) on a flat Model and
+// returns the index-1 DaeSystem plus a report for `--analyze`.
+#pragma once
+
+#include "ir/DaeSystem.h"
+#include "ir/Model.h"
+#include "support/Diagnostics.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ldae::passes {
+
+struct PipelineOptions {
+  /// "dd" (dummy derivatives, index 1) or "raw" (no index reduction: the
+  /// model as written, made first order). Other methods build on "dd".
+  std::string method = "dd";
+  /// Requested outputs (flat names, `der(x)` allowed); empty: everything.
+  std::vector<std::string> outputs;
+  bool timePasses = false;
+  /// Pass names after which the current state is printed to `log`.
+  std::vector<std::string> printAfter;
+  std::ostream *log = nullptr;
+};
+
+/// An equation index reduction differentiated.
+struct DifferentiatedEquation {
+  std::string equation; // as the user wrote it
+  std::string location; // file:line
+  int times = 0;
+};
+
+/// One candidate choice of states (dynamic state selection).
+struct StateSetReport {
+  std::vector<std::string> states;
+  std::vector<std::string> dummies;
+  /// The pivot matrix of the set printed as lsd expressions (row-major).
+  std::vector<std::string> pivot;
+  unsigned pivotSize = 0;
+};
+
+/// The initialization system and what it can honour.
+struct InitReport {
+  bool analyzed = false;
+  int unknowns = 0;  // y and y' of the differential unknowns
+  int equations = 0; // residuals + fixed start values + initial equations
+  int dof = 0;       // unknowns - equations (negative: over-specified)
+  std::vector<std::string> fixed;      // names with fixed = true
+  std::vector<std::string> honoured;   // fixed values the model can take
+  std::vector<std::string> conflicting;// over-determining fixed values
+  std::vector<std::string> toFree;     // which of them to free
+  std::vector<std::string> guesses;    // start values used only as guesses
+  int initialEquations = 0;
+  bool consistent = true;
+};
+
+struct PassTiming {
+  std::string name;
+  double seconds = 0;
+};
+
+struct AnalysisResult {
+  std::string model;
+  int variables = 0; // continuous unknowns of the flat model
+  int equations = 0; // equations of the flat model
+  int aliasesRemoved = 0;
+  std::vector<std::string> aliases; // "a = b", "c = -d", "e = 0"
+  bool singular = false;            // structurally singular model
+  std::vector<std::string> overDetermined;  // equation texts
+  std::vector<std::string> underDetermined; // variable names
+  std::optional<int> structuralIndex;
+  /// Equals the structural index: ldaec does not compute more yet (the SGA
+  /// stage may refine it where structure is fooled by cancellation).
+  std::optional<int> differentiationIndex;
+  int dof = 0; // number of states of the index-1 system
+  std::vector<std::string> states;
+  std::vector<std::string> dummies;
+  std::vector<DifferentiatedEquation> differentiated;
+  std::vector<int> bltBlocks; // sizes, in solve order
+  int systemUnknowns = 0;     // size of the DaeSystem
+  int prunedUnknowns = 0;     // removed by output-driven pruning
+  std::vector<StateSetReport> stateSets;
+  InitReport init;
+  std::vector<PassTiming> timings;
+  std::optional<ir::DaeSystem> system;
+};
+
+/// Runs the pass list on `model` (modified in place); false after
+/// reporting errors.
+bool runPipeline(ir::Model &model, const PipelineOptions &opts,
+                 DiagnosticEngine &diags, AnalysisResult &result);
+/// The `--analyze` text report.
+void printAnalysis(const AnalysisResult &result, std::ostream &out);
+/// The `--analyze --json` report (schema: docs/analysis-json.md).
+nlohmann::json analysisToJson(const AnalysisResult &result);
+/// The index-1 system as a valid lsd model (`--emit reduced`).
+std::string printReduced(const ir::DaeSystem &system);
+
+/// Name and one-line summary of each pass, in pipeline order.
+struct PassInfo {
+  const char *name;
+  const char *summary;
+};
+const std::vector<PassInfo> &passList();
+
+} // namespace ldae::passes

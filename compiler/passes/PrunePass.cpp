@@ -1,0 +1,97 @@
+// Pass "prune": with requested outputs, keeps only the unknowns and
+// residuals they depend on: the residual solving each needed unknown (in
+// every state set), everything that residual reads, and for a state the
+// residual giving its derivative, transitively. The result compiles only
+// what the outputs need.
+#include "passes/AnalysisState.h"
+#include "passes/SystemStructure.h"
+
+#include "ir/Query.h"
+
+namespace ldae::passes {
+
+bool runPrune(AnalysisState &s) {
+  if (!s.haveSystem || s.opts.outputs.empty() ||
+      s.systemMatchings.size() != s.system.stateSets.size())
+    return true;
+  ir::DaeSystem &sys = s.system;
+  const size_t n = sys.unknowns.size();
+  std::vector<char> need(n, 0);
+  std::vector<int> queue;
+  auto want = [&](int u) {
+    if (u >= 0 && !need[u]) {
+      need[u] = 1;
+      queue.push_back(u);
+    }
+  };
+  SystemLayout layout0(sys, 0);
+  for (const ir::SystemOutput &o : sys.outputs)
+    for (ir::VarKey k : ir::freeVariables(o.value))
+      want(layout0.read(k).unknown);
+  std::vector<graph::BipartiteGraph> reads;
+  for (size_t set = 0; set < sys.stateSets.size(); ++set)
+    reads.push_back(systemGraph(sys, set, false));
+  for (size_t q = 0; q < queue.size(); ++q) {
+    int u = queue[q];
+    for (size_t set = 0; set < sys.stateSets.size(); ++set) {
+      int r = s.systemMatchings[set].colMate[u];
+      if (r < 0)
+        continue;
+      for (int c : reads[set].rows[r])
+        want(c);
+    }
+  }
+
+  std::vector<int> newIndex(n, -1);
+  std::vector<ir::SystemUnknown> unknowns;
+  for (size_t u = 0; u < n; ++u)
+    if (need[u]) {
+      newIndex[u] = static_cast<int>(unknowns.size());
+      unknowns.push_back(sys.unknowns[u]);
+    }
+  std::vector<SourceLoc> locs;
+  for (size_t set = 0; set < sys.stateSets.size(); ++set) {
+    ir::StateSet &st = sys.stateSets[set];
+    ir::StateSet kept;
+    kept.pivotSize = st.pivotSize;
+    kept.pivot = st.pivot;
+    for (size_t u = 0; u < n; ++u)
+      if (need[u])
+        kept.differential.push_back(st.differential[u]);
+    for (size_t r = 0; r < st.residuals.size(); ++r) {
+      int u = s.systemMatchings[set].rowMate[r];
+      if (u < 0 || !need[u])
+        continue;
+      kept.residuals.push_back(st.residuals[r]);
+      if (set == 0)
+        locs.push_back(sys.residualLocs[r]);
+    }
+    for (size_t u = 0; u < n; ++u)
+      if (need[u] && st.differential[u])
+        kept.states.push_back(sys.unknowns[u].name);
+    st = std::move(kept);
+  }
+  // Constraints and initial conditions that read pruned unknowns go too.
+  auto keepsOnly = [&](ir::ExprRef e) {
+    for (ir::VarKey k : ir::freeVariables(e)) {
+      SlotRead sr = layout0.read(k);
+      if (sr.unknown >= 0 && !need[sr.unknown])
+        return false;
+    }
+    return true;
+  };
+  std::erase_if(sys.constraints, [&](ir::ExprRef e) { return !keepsOnly(e); });
+  std::erase_if(sys.initialResiduals,
+                [&](ir::ExprRef e) { return !keepsOnly(e); });
+  std::erase_if(sys.roots, [&](ir::ExprRef e) { return !keepsOnly(e); });
+  s.result.prunedUnknowns = static_cast<int>(n - unknowns.size());
+  sys.unknowns = std::move(unknowns);
+  sys.residualLocs = std::move(locs);
+  s.result.systemUnknowns = static_cast<int>(sys.unknowns.size());
+  // Matchings refer to the old numbering: recompute for later passes.
+  s.systemGraphs.clear();
+  s.systemMatchings.clear();
+  return runBlt(s);
+}
+
+} // namespace ldae::passes

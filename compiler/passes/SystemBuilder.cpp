@@ -1,0 +1,252 @@
+// Builds the ir::DaeSystem from the augmented equations and the dummy
+// choices, following the layout rule of ir/DaeSystem.h.
+//
+// For an unknown x whose highest order is d, the slots (unknowns) are x
+// itself and each order k in 1..d that is an intermediate order (k < d,
+// so that the system is first order: y holds x and der(x) for a model
+// written with der(der(x))) or a dummy derivative in some state set. An
+// order that is a dummy in every set keeps its own node Variable(x, k) as
+// the header describes; any other slot of order k >= 1 gets a fresh model
+// variable (named `der(x)`) so that no Variable node can be read both as a
+// y and as a y' entry. Where such an order is not a dummy, a link residual
+// `der(previous slot) - slot` ties it to its derivative.
+#include "passes/AnalysisState.h"
+
+#include "ir/Query.h"
+#include "ir/Substitute.h"
+
+#include <algorithm>
+#include <set>
+
+namespace ldae::passes {
+
+namespace {
+
+/// The slots of one unknown.
+struct Slots {
+  std::vector<unsigned> orders; // ascending, starting with 0
+  std::vector<ir::VarKey> keys; // the node each slot holds
+  std::vector<bool> fresh;
+};
+
+void collectRoots(ir::ExprContext &ctx, std::span<const ir::ExprRef> roots,
+                  std::vector<ir::ExprRef> &out, std::set<ir::ExprRef> &seen) {
+  for (ir::ExprRef n : ir::topologicalOrder(roots)) {
+    if (n->kind() != ir::ExprKind::If)
+      continue;
+    ir::ExprRef c = n->operand(0);
+    if (c->kind() != ir::ExprKind::Compare)
+      continue;
+    if (ir::freeVariables(c).empty() && !ir::dependsOnTime(c))
+      continue;
+    ir::ExprRef r = ctx.sub(c->operand(0), c->operand(1));
+    if (seen.insert(r).second)
+      out.push_back(r);
+  }
+}
+
+} // namespace
+
+bool buildSystem(AnalysisState &s) {
+  ir::Model &m = s.model;
+  ir::ExprContext &ctx = m.ctx();
+  const bool raw = s.opts.method == "raw";
+  const size_t nu = s.unknowns.size();
+  const size_t nsets = s.choices.size();
+  const size_t userVars = s.eliminated.size();
+
+  ir::DaeSystem sys;
+  sys.ctx = m.sharedCtx();
+  sys.model = &m;
+
+  ir::Substitution subst(ctx);
+  std::vector<Slots> slots(nu);
+  for (size_t j = 0; j < nu; ++j) {
+    const ir::VarId v = s.unknowns[j];
+    const ir::Variable var = m.variables[v]; // copy: addVariable may realloc
+    const unsigned d = raw ? s.originalOrder[j] : s.highest[j];
+    unsigned always = 0, any = d + 1;
+    for (const DummyChoice &c : s.choices) {
+      always = std::max<unsigned>(always, c[j]);
+      any = std::min<unsigned>(any, c[j]);
+    }
+    Slots &sl = slots[j];
+    for (unsigned k = 0; k <= d; ++k) {
+      bool slot = k == 0 || k + 1 <= d || k >= any;
+      if (!slot) {
+        // The top order read as the derivative of the slot below.
+        if (k >= 2)
+          subst.set(ctx.var(v, k), ctx.var(sl.keys.back().var, 1));
+        continue;
+      }
+      sl.orders.push_back(k);
+      if (k == 0 || k >= always) {
+        sl.keys.push_back({v, k});
+        sl.fresh.push_back(false);
+        continue;
+      }
+      ir::Variable f;
+      f.name = m.variableName(ir::VarKey{v, k});
+      f.component = var.component;
+      f.loc = var.loc;
+      f.nominal = var.nominal;
+      f.stateSelect = var.stateSelect;
+      ir::VarId fv = m.addVariable(f);
+      sl.keys.push_back({fv, 0});
+      sl.fresh.push_back(true);
+      subst.set(ctx.var(v, k), ctx.var(fv, 0));
+    }
+  }
+
+  // Unknowns.
+  std::vector<std::pair<size_t, size_t>> slotOf; // unknown index -> (j, slot)
+  for (size_t j = 0; j < nu; ++j) {
+    const ir::Variable &var = m.variables[s.unknowns[j]];
+    for (size_t k = 0; k < slots[j].orders.size(); ++k) {
+      ir::SystemUnknown u;
+      u.key = slots[j].keys[k];
+      u.name = m.variableName(ir::VarKey{s.unknowns[j], slots[j].orders[k]});
+      u.start = slots[j].orders[k] == 0 ? var.start : 0.0;
+      u.nominal = var.nominal;
+      u.fixed = slots[j].orders[k] == 0 && var.fixed;
+      u.loc = var.loc;
+      sys.unknowns.push_back(u);
+      slotOf.emplace_back(j, k);
+    }
+  }
+  const size_t n = sys.unknowns.size();
+
+  // Residuals shared by every set: the equations and their derivatives.
+  std::vector<ir::ExprRef> common;
+  for (size_t i = 0; i < s.equations.size(); ++i) {
+    const ir::Equation &eq = m.equations[s.equations[i]];
+    for (int r = static_cast<int>(i); r >= 0; r = s.rows[r].next) {
+      common.push_back(subst.apply(s.rows[r].residual));
+      sys.residualLocs.push_back(eq.loc);
+      if (raw)
+        break;
+    }
+    if (!raw && s.rows[i].next >= 0)
+      sys.constraints.push_back(subst.apply(s.rows[i].residual));
+  }
+  const size_t commonRows = common.size();
+
+  for (size_t set = 0; set < nsets; ++set) {
+    const DummyChoice &choice = s.choices[set];
+    ir::StateSet st;
+    st.residuals = common;
+    st.differential.assign(n, false);
+    for (size_t u = 0; u < n; ++u) {
+      auto [j, k] = slotOf[u];
+      const Slots &sl = slots[j];
+      unsigned order = sl.orders[k];
+      unsigned d = raw ? s.originalOrder[j] : s.highest[j];
+      st.differential[u] =
+          order + 1 <= d && static_cast<int>(order + 1) < choice[j];
+      if (sl.fresh[k] && static_cast<int>(order) < choice[j]) {
+        ir::VarKey below = sl.keys[k - 1];
+        st.residuals.push_back(
+            ctx.sub(ctx.var(below.var, below.order + 1), ctx.var(sl.keys[k])));
+        if (set == 0)
+          sys.residualLocs.push_back(sys.unknowns[u].loc);
+      }
+    }
+    if (st.residuals.size() != n) {
+      s.diags.report(DiagId::ErrIndexReductionFailed, m.loc,
+                     {"the reduced system has " +
+                      std::to_string(st.residuals.size()) + " equations for " +
+                      std::to_string(n) + " unknowns"});
+      return false;
+    }
+    for (size_t u = 0; u < n; ++u) {
+      if (st.differential[u])
+        st.states.push_back(sys.unknowns[u].name);
+    }
+    st.pivotSize = s.pivotSizes[set];
+    for (ir::ExprRef e : s.pivots[set])
+      st.pivot.push_back(subst.apply(e));
+    StateSetReport rep;
+    rep.states = st.states;
+    for (size_t u = 0; u < n; ++u) {
+      auto [j, k] = slotOf[u];
+      if (slots[j].orders[k] >= 1 &&
+          static_cast<int>(slots[j].orders[k]) >= choice[j])
+        rep.dummies.push_back(sys.unknowns[u].name);
+    }
+    rep.pivotSize = st.pivotSize;
+    for (ir::ExprRef e : st.pivot)
+      rep.pivot.push_back(ir::printLsd(e, &m));
+    s.result.stateSets.push_back(rep);
+    sys.stateSets.push_back(std::move(st));
+  }
+  (void)commonRows;
+
+  // Differential unknowns are never fixed-free guesses for their
+  // derivative; start derivatives stay 0 unless initialization finds more.
+  for (const ir::Equation &e : m.initialEquations)
+    sys.initialResiduals.push_back(subst.apply(e.residual));
+
+  std::set<ir::ExprRef> seen;
+  for (const ir::WhenClause &w : m.whenClauses) {
+    ir::ExprRef c = subst.apply(w.condition);
+    if (c->kind() == ir::ExprKind::Compare) {
+      ir::ExprRef r = ctx.sub(c->operand(0), c->operand(1));
+      if (seen.insert(r).second)
+        sys.roots.push_back(r);
+    }
+  }
+  collectRoots(ctx, sys.stateSets[0].residuals, sys.roots, seen);
+
+  // Outputs: every user variable (aliases included) and der(x) where the
+  // model differentiates x.
+  std::vector<ir::SystemOutput> outputs;
+  std::vector<ir::ExprRef> aliasValue(userVars, nullptr);
+  for (const Alias &a : s.aliases)
+    aliasValue[a.var] = a.value;
+  for (ir::VarId v = 0; v < userVars; ++v) {
+    const ir::Variable &var = m.variables[v];
+    if (aliasValue[v]) {
+      outputs.push_back({var.name, subst.apply(aliasValue[v])});
+    } else if (s.unknownIndex[v] >= 0) {
+      outputs.push_back({var.name, ctx.var(v)});
+      int j = s.unknownIndex[v];
+      if (s.originalOrder[j] >= 1)
+        outputs.push_back(
+            {m.variableName(ir::VarKey{v, 1}), subst.apply(ctx.var(v, 1))});
+    }
+  }
+  std::sort(outputs.begin(), outputs.end(),
+            [](const ir::SystemOutput &a, const ir::SystemOutput &b) {
+              return a.name < b.name;
+            });
+  if (s.opts.outputs.empty()) {
+    sys.outputs = std::move(outputs);
+  } else {
+    for (const std::string &name : s.opts.outputs) {
+      auto it = std::find_if(
+          outputs.begin(), outputs.end(),
+          [&](const ir::SystemOutput &o) { return o.name == name; });
+      if (it == outputs.end()) {
+        s.diags.report(DiagId::ErrUnknownOutput, SourceLoc{}, {name});
+        continue;
+      }
+      sys.outputs.push_back(*it);
+    }
+    if (s.diags.hasErrors())
+      return false;
+  }
+
+  sys.parameterValues = m.parameterValues();
+  for (const ir::Parameter &p : m.parameters)
+    sys.parameterNames.push_back(p.name);
+
+  s.result.states = sys.stateSets[0].states;
+  s.result.dummies = s.result.stateSets[0].dummies;
+  s.result.dof = static_cast<int>(s.result.states.size());
+  s.result.systemUnknowns = static_cast<int>(n);
+  s.system = std::move(sys);
+  s.haveSystem = true;
+  return true;
+}
+
+} // namespace ldae::passes
