@@ -67,27 +67,36 @@ ExprRef ExprContext::add(std::span<const ExprRef> terms) {
 
   // Split every term into coefficient * rest and collect like terms.
   std::vector<double> constants;
+  // The rest of a term is its factors after the coefficient; it is made a
+  // node only when like terms merge (a lookup per term would dominate).
   struct Term {
-    ExprRef rest;
+    std::span<const ExprRef> rest;
     double coef;
+    ExprRef term;
+  };
+  auto restLess = [](std::span<const ExprRef> a, std::span<const ExprRef> b) {
+    return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end(),
+                                        ExprIdLess());
+  };
+  auto restEqual = [](std::span<const ExprRef> a, std::span<const ExprRef> b) {
+    return std::equal(a.begin(), a.end(), b.begin(), b.end());
   };
   std::vector<Term> items;
   items.reserve(flat.size());
-  for (ExprRef t : flat) {
-    if (t->isConstant()) {
+  for (const ExprRef &t : flat) {
+    if (t->isConstant())
       constants.push_back(t->constant());
-    } else if (t->kind() == ExprKind::Mul && t->operand(0)->isConstant()) {
-      auto rest = t->operands().subspan(1);
-      items.push_back(
-          {rest.size() == 1 ? rest[0] : intern(ExprKind::Mul, 0, 0, 0, 0, rest),
-           t->operand(0)->constant()});
-    } else {
-      items.push_back({t, 1.0});
-    }
+    else if (t->kind() == ExprKind::Mul && t->operand(0)->isConstant())
+      items.push_back({t->operands().subspan(1), t->operand(0)->constant(), t});
+    else if (t->kind() == ExprKind::Mul)
+      items.push_back({t->operands(), 1.0, t});
+    else
+      items.push_back({std::span<const ExprRef>(&t, 1), 1.0, t});
   }
-  std::sort(items.begin(), items.end(), [](const Term &a, const Term &b) {
-    return a.rest->id() != b.rest->id() ? a.rest->id() < b.rest->id()
-                                        : a.coef < b.coef;
+  std::sort(items.begin(), items.end(), [&](const Term &a, const Term &b) {
+    if (restLess(a.rest, b.rest))
+      return true;
+    return !restLess(b.rest, a.rest) && a.coef < b.coef;
   });
 
   std::vector<ExprRef> out;
@@ -95,12 +104,17 @@ ExprRef ExprContext::add(std::span<const ExprRef> terms) {
   for (size_t i = 0; i < items.size();) {
     size_t j = i;
     double coef = 0;
-    for (; j < items.size() && items[j].rest == items[i].rest; ++j)
+    for (; j < items.size() && restEqual(items[j].rest, items[i].rest); ++j)
       coef += items[j].coef;
-    ExprRef rest = items[i].rest;
-    if (j - i == 1 && coef == 1.0) {
-      out.push_back(rest);
-    } else if (!std::isfinite(coef)) {
+    if (j - i == 1) {
+      out.push_back(items[i].term); // alone: already canonical
+      i = j;
+      continue;
+    }
+    ExprRef rest = items[i].rest.size() == 1
+                       ? items[i].rest[0]
+                       : intern(ExprKind::Mul, 0, 0, 0, 0, items[i].rest);
+    if (!std::isfinite(coef)) {
       // The coefficients overflowed: keep the terms as they were.
       for (size_t k = i; k < j; ++k)
         out.push_back(mul(constant(items[k].coef), rest));
@@ -151,6 +165,7 @@ ExprRef ExprContext::mul(std::span<const ExprRef> factors) {
   struct Factor {
     ExprRef base;
     double exponent;
+    ExprRef factor;
   };
   std::vector<Factor> items;
   items.reserve(flat.size());
@@ -159,9 +174,9 @@ ExprRef ExprContext::mul(std::span<const ExprRef> factors) {
       constants.push_back(f->constant());
     else if (f->kind() == ExprKind::Pow && f->operand(1)->isConstant() &&
              isIntegral(f->operand(1)->constant()))
-      items.push_back({f->operand(0), f->operand(1)->constant()});
+      items.push_back({f->operand(0), f->operand(1)->constant(), f});
     else
-      items.push_back({f, 1.0});
+      items.push_back({f, 1.0, f});
   }
   std::sort(items.begin(), items.end(), [](const Factor &a, const Factor &b) {
     return a.base->id() != b.base->id() ? a.base->id() < b.base->id()
@@ -185,6 +200,11 @@ ExprRef ExprContext::mul(std::span<const ExprRef> factors) {
     size_t j = i;
     for (; j < items.size() && items[j].base == items[i].base; ++j)
       (items[j].exponent > 0 ? positive : negative) += items[j].exponent;
+    if (j - i == 1) {
+      out.push_back(items[i].factor); // alone: already canonical
+      i = j;
+      continue;
+    }
     if (positive != 0)
       emit(items[i].base, positive);
     if (negative != 0)

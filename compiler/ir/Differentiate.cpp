@@ -5,6 +5,7 @@
 #include "ir/Differentiate.h"
 #include "Traverse.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -154,20 +155,28 @@ template <typename D> ExprRef chainRule(ExprContext &ctx, ExprRef e, D &&d) {
 
 /// Differentiates every node below `e` missing from `cache`, operands first.
 template <typename Leaf>
-ExprRef differentiate(ExprContext &ctx, ExprRef e,
-                      std::unordered_map<ExprRef, ExprRef> &cache,
+ExprRef differentiate(ExprContext &ctx, ExprRef e, std::vector<ExprRef> &cache,
                       Leaf &&leaf) {
-  if (auto it = cache.find(e); it != cache.end())
-    return it->second;
-  auto d = [&](ExprRef op) { return cache.at(op); };
+  auto cached = [&](ExprRef n) {
+    return n->id() < cache.size() ? cache[n->id()] : nullptr;
+  };
+  if (ExprRef known = cached(e))
+    return known;
+  auto d = [&](ExprRef op) {
+    assert(cached(op) && "operands are differentiated first");
+    return cache[op->id()];
+  };
   ExprRef roots[] = {e};
   postOrder(
-      roots, [&](ExprRef n) { return cache.count(n) != 0; },
+      roots, [&](ExprRef n) { return cached(n) != nullptr; },
       [&](ExprRef n) {
         ExprRef dn = n->numOperands() == 0 ? leaf(n) : chainRule(ctx, n, d);
-        cache.emplace(n, dn);
+        // Ids of nodes made meanwhile are larger: size for all of them.
+        if (cache.size() < ctx.size())
+          cache.resize(std::max(ctx.size(), 2 * cache.size()), nullptr);
+        cache[n->id()] = dn;
       });
-  return cache.at(e);
+  return cache[e->id()];
 }
 
 } // namespace

@@ -8,7 +8,7 @@
 
 #include "ir/ExprContext.h"
 
-#include <unordered_map>
+#include <vector>
 
 namespace ldae::ir {
 
@@ -26,8 +26,10 @@ public:
 private:
   ExprContext &ctx_;
   VarKey cachedKey_{~0u, ~0u};
-  std::unordered_map<ExprRef, ExprRef> partialCache_; // for cachedKey_
-  std::unordered_map<ExprRef, ExprRef> timeCache_;
+  // Derivatives by node id (null: not computed yet): dense, since a
+  // derivative visits most of a DAG's nodes.
+  std::vector<ExprRef> partialCache_; // for cachedKey_
+  std::vector<ExprRef> timeCache_;
 };
 
 } // namespace ldae::ir

@@ -5,6 +5,7 @@
 
 #include <cassert>
 #include <new>
+#include <sys/mman.h>
 
 namespace ldae::ir {
 
@@ -60,9 +61,22 @@ bool computeTotal(ExprRef e, const std::vector<uint8_t> &total) {
 
 } // namespace
 
-ExprContext::ExprContext() : impl_(std::make_unique<Impl>()) {
-  impl_->table.reserve(1024);
+HugeBlock::HugeBlock(size_t bytes) : size_(bytes) {
+  void *p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE,
+                 MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED)
+    throw std::bad_alloc(); // out of memory: nothing sensible to recover
+  if (bytes >= (2u << 20))
+    madvise(p, bytes, MADV_HUGEPAGE); // a hint: failure is harmless
+  data_ = static_cast<char *>(p);
 }
+
+HugeBlock::~HugeBlock() {
+  if (data_)
+    munmap(data_, size_);
+}
+
+ExprContext::ExprContext() : impl_(std::make_unique<Impl>()) {}
 
 ExprContext::~ExprContext() = default;
 
@@ -86,11 +100,14 @@ ExprRef ExprContext::intern(ExprKind kind, uint8_t sub, uint32_t index,
   // hash container keyed by nodes is then reproducible.
   for (ExprRef op : ops)
     h = mix(h, op->id());
+  // Final avalanche: the table indexes by the low bits.
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ull;
+  h ^= h >> 33;
   probe.hash_ = h;
 
-  auto it = impl_->table.find(&probe);
-  if (it != impl_->table.end())
-    return *it;
+  if (ExprRef found = impl_->table.find(probe))
+    return found;
 
   Impl &im = *impl_;
   auto *node = new (im.arena.allocate(sizeof(Expr), alignof(Expr))) Expr();
@@ -110,8 +127,23 @@ ExprRef ExprContext::intern(ExprKind kind, uint8_t sub, uint32_t index,
 }
 
 ExprRef ExprContext::constant(double v) {
-  if (v == 0)
-    v = 0.0; // one zero: -0 and +0 are the same constant
+  // The commonest constants skip the table.
+  Impl &im = *impl_;
+  if (v == 0) { // one zero: -0 and +0 are the same constant
+    if (!im.zero)
+      im.zero = intern(ExprKind::Constant, 0, 0, 0, 0.0, {});
+    return im.zero;
+  }
+  if (v == 1) {
+    if (!im.one)
+      im.one = intern(ExprKind::Constant, 0, 0, 0, 1.0, {});
+    return im.one;
+  }
+  if (v == -1) {
+    if (!im.minusOne)
+      im.minusOne = intern(ExprKind::Constant, 0, 0, 0, -1.0, {});
+    return im.minusOne;
+  }
   return intern(ExprKind::Constant, 0, 0, 0, v, {});
 }
 
@@ -138,6 +170,8 @@ bool ExprContext::isTotal(ExprRef e) const { return impl_->total[e->id()]; }
 
 size_t ExprContext::size() const { return impl_->nodes.size(); }
 
-size_t ExprContext::memoryBytes() const { return impl_->arena.bytes(); }
+size_t ExprContext::memoryBytes() const {
+  return impl_->arena.bytes() + impl_->table.bytes();
+}
 
 } // namespace ldae::ir

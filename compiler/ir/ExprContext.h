@@ -57,7 +57,7 @@ public:
 
   /// Number of distinct nodes created so far.
   size_t size() const;
-  /// Bytes held by the node arena (for benchmarks).
+  /// Bytes held by the node arena and the uniquing table (for benchmarks).
   size_t memoryBytes() const;
 
   /// True if `e` is finite and free of domain errors for every finite value

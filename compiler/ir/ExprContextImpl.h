@@ -4,10 +4,12 @@
 
 #include "ir/ExprContext.h"
 
+#include <cassert>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
-#include <unordered_set>
+#include <utility>
 #include <vector>
 
 namespace ldae::ir {
@@ -22,6 +24,30 @@ inline bool isIntegral(double v) {
   return std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 9.0e15;
 }
 
+/// Zero-filled memory straight from the kernel, for big randomly accessed
+/// arrays (the node arena, the uniquing table): marked for transparent huge
+/// pages, since hash-consing a million-node DAG is bound by TLB misses.
+class HugeBlock {
+public:
+  HugeBlock() = default;
+  explicit HugeBlock(size_t bytes);
+  HugeBlock(HugeBlock &&o) noexcept : data_(o.data_), size_(o.size_) {
+    o.data_ = nullptr;
+    o.size_ = 0;
+  }
+  HugeBlock &operator=(HugeBlock &&o) noexcept {
+    std::swap(data_, o.data_);
+    std::swap(size_, o.size_);
+    return *this;
+  }
+  ~HugeBlock();
+  char *get() const { return data_; }
+
+private:
+  char *data_ = nullptr;
+  size_t size_ = 0;
+};
+
 /// A bump allocator: nodes and operand arrays live until the context dies.
 class Arena {
 public:
@@ -29,7 +55,7 @@ public:
     size_t offset = (used_ + align - 1) & ~(align - 1);
     if (blocks_.empty() || offset + bytes > blockSize_) {
       size_t size = bytes > kBlock ? bytes : kBlock;
-      blocks_.push_back(std::make_unique<char[]>(size));
+      blocks_.emplace_back(size);
       blockSize_ = size;
       total_ += size;
       offset = 0;
@@ -40,16 +66,11 @@ public:
   size_t bytes() const { return total_; }
 
 private:
-  static constexpr size_t kBlock = 1 << 20;
-  std::vector<std::unique_ptr<char[]>> blocks_;
+  static constexpr size_t kBlock = 2 << 20;
+  std::vector<HugeBlock> blocks_;
   size_t used_ = 0, blockSize_ = 0, total_ = 0;
 };
 
-struct NodeHash {
-  size_t operator()(ExprRef e) const { return e->hash(); }
-};
-
-/// Structural equality of nodes whose operands are already uniqued.
 struct NodeEqual {
   bool operator()(ExprRef a, ExprRef b) const {
     if (a->hash() != b->hash() || a->kind() != b->kind() ||
@@ -83,12 +104,76 @@ struct NodeEqual {
   }
 };
 
+/// The uniquing table: open addressing with linear probing. A slot is one
+/// word, the node's address with the top 16 bits of its hash in the unused
+/// high bits, so the table is small and a probe dereferences a node only
+/// when the tag matches.
+class NodeTable {
+public:
+  NodeTable() { resize(1024); }
+
+  /// The node equal to `probe`, or null.
+  ExprRef find(const Expr &probe) const {
+    uint64_t tag = tagOf(probe.hash());
+    for (size_t i = probe.hash() & mask_;; i = (i + 1) & mask_) {
+      uint64_t s = slots_[i];
+      if (!s)
+        return nullptr;
+      if ((s & kTagMask) == tag) {
+        auto node = reinterpret_cast<ExprRef>(s & ~kTagMask);
+        if (NodeEqual()(node, &probe))
+          return node;
+      }
+    }
+  }
+  /// Adds `node`, known to be absent.
+  void insert(ExprRef node) {
+    if ((count_ + 1) * 10 > (mask_ + 1) * 6)
+      grow();
+    place(node);
+    ++count_;
+  }
+  size_t bytes() const { return (mask_ + 1) * sizeof(uint64_t); }
+
+private:
+  static constexpr uint64_t kTagMask = 0xffffull << 48;
+  HugeBlock memory_;
+  uint64_t *slots_ = nullptr;
+  size_t mask_ = 0, count_ = 0;
+
+  static uint64_t tagOf(size_t hash) { return hash & kTagMask; }
+
+  void resize(size_t n) {
+    memory_ = HugeBlock(n * sizeof(uint64_t)); // zero: all slots empty
+    slots_ = reinterpret_cast<uint64_t *>(memory_.get());
+    mask_ = n - 1;
+  }
+  void place(ExprRef node) {
+    auto bits = reinterpret_cast<uint64_t>(node);
+    assert((bits & kTagMask) == 0 && "addresses above 2^48 are not expected");
+    size_t i = node->hash() & mask_;
+    while (slots_[i])
+      i = (i + 1) & mask_;
+    slots_[i] = bits | tagOf(node->hash());
+  }
+  void grow() {
+    HugeBlock old = std::move(memory_);
+    auto *oldSlots = reinterpret_cast<uint64_t *>(old.get());
+    size_t oldSize = mask_ + 1;
+    resize(oldSize * 2);
+    for (size_t i = 0; i < oldSize; ++i)
+      if (oldSlots[i])
+        place(reinterpret_cast<ExprRef>(oldSlots[i] & ~kTagMask));
+  }
+};
+
 struct ExprContext::Impl {
   Arena arena;
-  std::unordered_set<ExprRef, NodeHash, NodeEqual> table;
+  NodeTable table;
   std::vector<ExprRef> nodes;     // by id
   std::vector<uint8_t> total;     // by id: ExprContext::isTotal
   ExprRef time = nullptr;
+  ExprRef zero = nullptr, one = nullptr, minusOne = nullptr;
 };
 
 } // namespace ldae::ir

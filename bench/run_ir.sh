@@ -1,0 +1,58 @@
+#!/bin/sh
+# Runs the IR benchmark at 1e5 and 1e6 nodes, checks that differentiation
+# time grows linearly (10x the nodes may take at most 12x the time) and
+# writes the figures into docs/benchmarks.md under "## IR".
+# Usage: bench/run_ir.sh [build-dir]   (default: build)
+set -eu
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$root/build}
+bin=$build/bench/ir_bench
+[ -x "$bin" ] || { echo "run_ir.sh: $bin not built (ninja -C $build ir_bench)" >&2; exit 2; }
+
+small=$("$bin" 100000)
+large=$("$bin" 1000000)
+echo "1e5: $small"
+echo "1e6: $large"
+
+python3 - "$root/docs/benchmarks.md" "$small" "$large" <<'PY'
+import re, sys, platform, datetime
+path, small, large = sys.argv[1], sys.argv[2], sys.argv[3]
+def parse(line):
+    return {k: float(v) for k, v in (kv.split("=") for kv in line.split())}
+s, l = parse(small), parse(large)
+rows = []
+for name, key in [("build", "build_s"), ("d/dt", "ddt_s"), ("partial", "partial_s")]:
+    rows.append((name, s[key], l[key], l[key] / max(s[key], 1e-9)))
+node_ratio = l["nodes"] / s["nodes"]
+ok = all(r[3] <= 12 * node_ratio / 10 for r in rows[1:])
+section = f"""## IR
+
+`bench/ir_bench.cpp`, run by `bench/run_ir.sh` ({datetime.date.today()}, {platform.machine()}).
+A chain `e[k+1] = e[k] * sin(e[k-1]) + x[k mod 10]` built through the simplifying
+builders until the context holds N nodes (each step shares the two previous
+results, so the unfolded tree is exponential), then its total time
+derivative and the partial derivative by `x[3]` (memoized, iterative).
+
+| | N = {int(s['nodes'])} | N = {int(l['nodes'])} | ratio |
+|---|---:|---:|---:|
+""" + "".join(f"| {n} time (s) | {a:.3f} | {b:.3f} | {r:.1f}x |\n" for n, a, b, r in rows) + \
+f"""| nodes made by d/dt | {int(s['ddt_nodes'])} | {int(l['ddt_nodes'])} | {l['ddt_nodes']/s['ddt_nodes']:.1f}x |
+| nodes made by partial | {int(s['partial_nodes'])} | {int(l['partial_nodes'])} | {l['partial_nodes']/s['partial_nodes']:.1f}x |
+| node arena (MiB) | {s['arena_MiB']:.1f} | {l['arena_MiB']:.1f} | {l['arena_MiB']/s['arena_MiB']:.1f}x |
+| max RSS (MiB) | {s['maxrss_MiB']:.1f} | {l['maxrss_MiB']:.1f} | {l['maxrss_MiB']/s['maxrss_MiB']:.1f}x |
+
+Linearity ({node_ratio:.1f}x the nodes may take at most {12*node_ratio/10:.1f}x the time): **{"pass" if ok else "FAIL"}**.
+"""
+try:
+    text = open(path).read()
+except FileNotFoundError:
+    text = "# Benchmarks\n"
+pattern = re.compile(r"^## IR\n.*?(?=^## |\Z)", re.S | re.M)
+if pattern.search(text):
+    text = pattern.sub(lambda m: section + "\n", text)
+else:
+    text = text.rstrip("\n") + "\n\n" + section
+open(path, "w").write(text.rstrip("\n") + "\n")
+print(section)
+sys.exit(0 if ok else 1)
+PY
