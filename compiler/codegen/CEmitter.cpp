@@ -1,0 +1,379 @@
+// The C99 printer over the code plan: one self-contained file (the C
+// standard library and the inlined ldae/model.h only) defining every plan
+// function with its C ABI signature, the tables of the model and a filled
+// `const ldae_model ldae_model_<name>`; optionally a `main` driving IDA
+// (the template IdaMain.c.in). Same nodes, same order, same error bits as
+// the LLVM emitter and the interpreter.
+#include "codegen/CEmitter.h"
+
+#include "codegen/EmbeddedText.h"
+#include "codegen/LlvmEmitter.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace ldae::codegen {
+
+using ir::CompareKind;
+using ir::FuncKind;
+
+namespace {
+
+std::string number(double v) {
+  if (std::isnan(v))
+    return "NAN";
+  if (std::isinf(v))
+    return v > 0 ? "HUGE_VAL" : "(-HUGE_VAL)";
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  std::string s = buf;
+  if (s.find_first_of(".en") == std::string::npos)
+    s += ".0";
+  return v < 0 ? "(" + s + ")" : s;
+}
+
+std::string quote(const std::string &s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\')
+      out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+const char *cFunc(FuncKind f) {
+  switch (f) {
+  case FuncKind::Sin: return "sin";
+  case FuncKind::Cos: return "cos";
+  case FuncKind::Tan: return "tan";
+  case FuncKind::Asin: return "asin";
+  case FuncKind::Acos: return "acos";
+  case FuncKind::Atan: return "atan";
+  case FuncKind::Atan2: return "atan2";
+  case FuncKind::Sinh: return "sinh";
+  case FuncKind::Cosh: return "cosh";
+  case FuncKind::Tanh: return "tanh";
+  case FuncKind::Exp: return "exp";
+  case FuncKind::Log: return "log";
+  case FuncKind::Log10: return "log10";
+  case FuncKind::Sqrt: return "sqrt";
+  case FuncKind::Abs: return "fabs";
+  case FuncKind::Floor: return "floor";
+  case FuncKind::Ceil: return "ceil";
+  default: return nullptr;
+  }
+}
+
+const char *cCompare(CompareKind c) {
+  static const char *ops[] = {"<", "<=", ">", ">=", "==", "!="};
+  return ops[unsigned(c)];
+}
+
+/// Prints the statements of one chunk.
+class ChunkPrinter {
+public:
+  ChunkPrinter(std::ostream &os, const PlanFunction &fn, const PlanChunk &c)
+      : os_(os), fn_(fn), chunk_(c) {}
+
+  void print() {
+    for (uint32_t k = chunk_.nodeBegin; k < chunk_.nodeEnd; ++k) {
+      const PlanNode &n = fn_.nodes[k];
+      if (isLeaf(n.op))
+        continue;
+      printNode(k);
+      if (fn_.spill[k] >= 0) {
+        os_ << "  tmp[" << fn_.spill[k] << "] = v" << k << ";\n";
+        if (n.mayFail)
+          os_ << "  tmp[" << fn_.spill[k] + 1 << "] = e" << k << ";\n";
+      }
+    }
+    for (uint32_t i = chunk_.storeBegin; i < chunk_.storeEnd; ++i) {
+      const PlanStore &s = fn_.stores[i];
+      os_ << "  out" << int(s.array) << "[" << s.index << "] = " << ref(s.node)
+          << ";\n";
+      if (fn_.nodes[s.node].mayFail)
+        os_ << "  if (!rc && " << err(s.node) << ") rc = " << s.row + 1
+            << ";\n";
+    }
+  }
+
+private:
+  bool inChunk(uint32_t k) const {
+    return k >= chunk_.nodeBegin && k < chunk_.nodeEnd;
+  }
+  std::string ref(uint32_t k) const {
+    const PlanNode &n = fn_.nodes[k];
+    switch (n.op) {
+    case OpCode::Const: return number(n.value);
+    case OpCode::LoadY: return "y[" + std::to_string(n.index) + "]";
+    case OpCode::LoadYp: return "yp[" + std::to_string(n.index) + "]";
+    case OpCode::LoadP: return "p[" + std::to_string(n.index) + "]";
+    case OpCode::Time: return "t";
+    case OpCode::Cj: return "cj";
+    default:
+      if (inChunk(k))
+        return "v" + std::to_string(k);
+      return "tmp[" + std::to_string(fn_.spill[k]) + "]";
+    }
+  }
+  std::string err(uint32_t k) const {
+    if (!fn_.nodes[k].mayFail)
+      return "0";
+    if (inChunk(k))
+      return "e" + std::to_string(k);
+    return "(tmp[" + std::to_string(fn_.spill[k] + 1) + "] != 0.0)";
+  }
+
+  void printNode(uint32_t k) {
+    const PlanNode &n = fn_.nodes[k];
+    std::string a = ref(n.a);
+    std::string b = numOperands(n.op) >= 2 ? ref(n.b) : "";
+    std::string v = "v" + std::to_string(k);
+    std::string expr, check;
+    switch (n.op) {
+    case OpCode::Add: expr = a + " + " + b; break;
+    case OpCode::Sub: expr = a + " - " + b; break;
+    case OpCode::Mul: expr = a + " * " + b; break;
+    case OpCode::Div:
+      expr = a + " / " + b;
+      check = b + " == 0.0";
+      break;
+    case OpCode::Neg: expr = "-" + a; break;
+    case OpCode::PowInt: {
+      std::string result, base = a;
+      unsigned tmpCount = 0;
+      auto temp = [&](const std::string &e) {
+        std::string name = v + "_" + std::to_string(tmpCount++);
+        os_ << "  const double " << name << " = " << e << ";\n";
+        return name;
+      };
+      for (PowIntStep s : powIntSteps(n.index)) {
+        if (s.multiplyResult)
+          result = result.empty() ? base : temp(result + " * " + base);
+        if (s.squareBase)
+          base = temp(base + " * " + base);
+      }
+      expr = result;
+      break;
+    }
+    case OpCode::Pow:
+      expr = "pow(" + a + ", " + b + ")";
+      check = "(" + a + " < 0.0 && floor(" + b + ") != " + b + ") || (" + a +
+              " == 0.0 && " + b + " < 0.0)";
+      break;
+    case OpCode::Sqrt:
+      expr = "sqrt(" + a + ")";
+      check = a + " < 0.0";
+      break;
+    case OpCode::Func1: {
+      auto f = FuncKind(n.sub);
+      if (f == FuncKind::Sign)
+        expr = "(double)(" + a + " > 0.0) - (double)(" + a + " < 0.0)";
+      else
+        expr = std::string(cFunc(f)) + "(" + a + ")";
+      if (f == FuncKind::Log || f == FuncKind::Log10)
+        check = "!(" + a + " > 0.0)";
+      else if (f == FuncKind::Asin || f == FuncKind::Acos)
+        check = "fabs(" + a + ") > 1.0";
+      break;
+    }
+    case OpCode::Func2:
+      switch (FuncKind(n.sub)) {
+      case FuncKind::Atan2: expr = "atan2(" + a + ", " + b + ")"; break;
+      case FuncKind::Min: expr = a + " < " + b + " ? " + a + " : " + b; break;
+      case FuncKind::Max: expr = a + " > " + b + " ? " + a + " : " + b; break;
+      case FuncKind::Mod:
+        expr = a + " - floor(" + a + " / " + b + ") * " + b;
+        check = b + " == 0.0";
+        break;
+      default: assert(false && "not a binary built-in");
+      }
+      break;
+    case OpCode::Select:
+      expr = a + " != 0.0 ? " + b + " : " + ref(n.c);
+      break;
+    case OpCode::Compare:
+      expr = "(double)(" + a + " " + cCompare(CompareKind(n.sub)) + " " + b + ")";
+      break;
+    case OpCode::And: expr = "(double)(" + a + " != 0.0 && " + b + " != 0.0)"; break;
+    case OpCode::Or: expr = "(double)(" + a + " != 0.0 || " + b + " != 0.0)"; break;
+    case OpCode::Not: expr = "(double)(" + a + " == 0.0)"; break;
+    default: assert(false && "leaf in printNode");
+    }
+    os_ << "  const double " << v << " = " << expr << ";\n";
+    if (!n.mayFail)
+      return;
+    std::string e;
+    if (n.op == OpCode::Select) {
+      e = err(n.a) + " | (" + a + " != 0.0 ? " + err(n.b) + " : " +
+          err(n.c) + ")";
+    } else if (n.op == OpCode::And || n.op == OpCode::Or) {
+      e = err(n.a) + " | (" + a + (n.op == OpCode::And ? " != " : " == ") +
+          "0.0 && " + err(n.b) + ")";
+    } else {
+      e = check.empty() ? "0" : "(" + check + ")";
+      for (unsigned i = 0; i < numOperands(n.op); ++i)
+        if (fn_.nodes[n.operand(i)].mayFail)
+          e += " | " + err(n.operand(i));
+    }
+    os_ << "  const int e" << k << " = " << e << ";\n";
+  }
+
+  std::ostream &os_;
+  const PlanFunction &fn_;
+  const PlanChunk &chunk_;
+};
+
+const char *kChunkParams =
+    "(double t, const double *restrict y, const double *restrict yp, "
+    "const double *restrict p, double cj, double *restrict out0, "
+    "double *restrict out1, double *restrict tmp)";
+
+std::string exportedParams(FnSig sig) {
+  std::string s = "(double t, const double *restrict y, const double "
+                  "*restrict yp, const double *restrict p, ";
+  if (sig == FnSig::Jacobian)
+    s += "double cj, ";
+  s += "double *restrict out0";
+  if (sig == FnSig::InitJacobian)
+    s += ", double *restrict out1";
+  return s + ")";
+}
+
+void printFunction(std::ostream &os, const CodePlan &plan,
+                   const PlanFunction &fn) {
+  std::string sym = functionSymbol(plan, fn);
+  bool single = fn.chunks.size() == 1;
+  if (!single)
+    for (size_t c = 0; c < fn.chunks.size(); ++c) {
+      os << "static int " << sym << "_chunk" << c << kChunkParams << " {\n"
+         << "  int rc = 0;\n"
+         << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out0; "
+            "(void)out1; (void)tmp;\n";
+      ChunkPrinter(os, fn, fn.chunks[c]).print();
+      os << "  return rc;\n}\n\n";
+    }
+  os << "int " << sym << exportedParams(fn.sig) << " {\n";
+  if (fn.sig != FnSig::Jacobian)
+    os << "  const double cj = 0.0;\n";
+  if (fn.sig != FnSig::InitJacobian)
+    os << "  double *const out1 = 0;\n";
+  os << "  int rc = 0;\n"
+     << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out1;\n";
+  for (unsigned i = 0; i < 2; ++i)
+    if (fn.zeroFill[i])
+      os << "  memset(out" << i << ", 0, " << fn.zeroFill[i]
+         << " * sizeof(double));\n";
+  if (single) {
+    os << "  {\n";
+    ChunkPrinter(os, fn, fn.chunks[0]).print();
+    os << "  }\n  return rc;\n}\n\n";
+    return;
+  }
+  bool heap = fn.numSpillSlots > 8192;
+  if (heap)
+    os << "  double *tmp = (double *)malloc(" << fn.numSpillSlots
+       << " * sizeof(double));\n  if (!tmp) return -1;\n";
+  else
+    os << "  double tmp[" << std::max(1u, fn.numSpillSlots) << "];\n";
+  for (size_t c = 0; c < fn.chunks.size(); ++c) {
+    os << "  " << (c ? "if (!rc) " : "") << "rc = " << sym << "_chunk" << c
+       << "(t, y, yp, p, cj, out0, out1, tmp);\n";
+  }
+  if (heap)
+    os << "  free(tmp);\n";
+  os << "  return rc;\n}\n\n";
+}
+
+template <typename T, typename F>
+void printArray(std::ostream &os, const std::string &type,
+                const std::string &name, const std::vector<T> &values,
+                F format) {
+  os << "static const " << type << " " << name << "[] = {";
+  if (values.empty())
+    os << "0"; // C has no empty arrays
+  for (size_t i = 0; i < values.size(); ++i)
+    os << (i ? "," : "") << (i % 8 == 0 ? "\n  " : " ") << format(values[i]);
+  os << "\n};\n";
+}
+
+} // namespace
+
+std::string printC(const CodePlan &plan, bool withMain) {
+  std::ostringstream os;
+  const std::string &s = plan.symbolName;
+  os << "/* Generated by ldaec from model " << quote(plan.name)
+     << ": the C ABI of ldae/model.h.\n"
+     << "   Compile: cc -O2 -c " << s << ".c (see docs/embedding-c.md). */\n"
+     << "#include <math.h>\n#include <stdlib.h>\n#include <string.h>\n\n"
+     << kModelHeaderText << "\n";
+  for (const PlanFunction &fn : plan.functions)
+    printFunction(os, plan, fn);
+
+  auto str = [](const std::string &v) { return quote(v); };
+  auto dbl = [](double v) { return number(v); };
+  auto integer = [](int v) { return std::to_string(v); };
+  printArray(os, "char *const", s + "_var_names", plan.varNames, str);
+  printArray(os, "double", s + "_start_y", plan.startY, dbl);
+  printArray(os, "double", s + "_start_yp", plan.startYp, dbl);
+  printArray(os, "double", s + "_nominal", plan.nominal, dbl);
+  printArray(os, "int", s + "_fixed", plan.fixed, integer);
+  printArray(os, "char *const", s + "_param_names", plan.paramNames, str);
+  printArray(os, "double", s + "_param_values", plan.paramValues, dbl);
+  printArray(os, "char *const", s + "_output_names", plan.outputNames, str);
+  if (!plan.residualOrigin.empty())
+    printArray(os, "char *const", s + "_residual_origin", plan.residualOrigin,
+               str);
+  auto fnRef = [&](int i) {
+    return i < 0 ? std::string("0") : functionSymbol(plan, plan.functions[i]);
+  };
+  for (size_t i = 0; i < plan.stateSets.size(); ++i) {
+    const StateSetPlan &sp = plan.stateSets[i];
+    std::string p = s + "_set" + std::to_string(i);
+    printArray(os, "int", p + "_is_differential", sp.isDifferential, integer);
+    printArray(os, "int", p + "_colptr", sp.colptr, integer);
+    printArray(os, "int", p + "_rowind", sp.rowind, integer);
+  }
+  os << "static const ldae_state_set " << s << "_state_sets[] = {\n";
+  for (size_t i = 0; i < plan.stateSets.size(); ++i) {
+    const StateSetPlan &sp = plan.stateSets[i];
+    std::string p = s + "_set" + std::to_string(i);
+    os << "  {" << p << "_is_differential, " << fnRef(sp.residual) << ", "
+       << fnRef(sp.jacobianDense) << ", " << fnRef(sp.jacobianCsc) << ", "
+       << sp.rowind.size() << ", " << p << "_colptr, " << p << "_rowind, "
+       << sp.pivotSize << ", " << fnRef(sp.pivot) << ", "
+       << quote(sp.description) << "},\n";
+  }
+  os << "};\n\n";
+  os << "const ldae_model ldae_model_" << s << " = {\n"
+     << "  LDAE_ABI_VERSION, " << quote(plan.name) << ",\n"
+     << "  " << plan.n << ", " << s << "_var_names, " << s << "_start_y, " << s
+     << "_start_yp, " << s << "_nominal, " << s << "_fixed,\n"
+     << "  " << plan.paramValues.size() << ", " << s << "_param_names, " << s
+     << "_param_values,\n"
+     << "  " << plan.stateSets.size() << ", " << s << "_state_sets,\n"
+     << "  " << plan.nInit << ", " << fnRef(plan.initResidual) << ", "
+     << fnRef(plan.initJacobian) << ",\n"
+     << "  " << plan.nRoots << ", " << fnRef(plan.roots) << ",\n"
+     << "  " << plan.nOutputs << ", " << s << "_output_names, "
+     << fnRef(plan.outputs) << ",\n"
+     << "  " << plan.nDrift << ", " << fnRef(plan.drift) << ",\n"
+     << "  0, 0, 0, 0, 0,\n"
+     << "  " << (plan.residualOrigin.empty() ? "0" : s + "_residual_origin")
+     << ",\n"
+     << "  " << number(plan.startTime) << ", " << number(plan.stopTime) << ", "
+     << number(plan.tolerance) << ", " << number(plan.interval) << "\n};\n\n"
+     << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
+     << "; }\n";
+  if (withMain)
+    os << "\n" << kIdaMainText;
+  return os.str();
+}
+
+} // namespace ldae::codegen

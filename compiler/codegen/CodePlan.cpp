@@ -1,0 +1,658 @@
+// Lowering a DaeSystem into the code plan: maps variables to y/y' slots by
+// the layout rule, differentiates residuals for the Jacobians (structural
+// sparsity: only symbolically nonzero entries), rewrites the IR's canonical
+// forms back into cheap operations (a + (-1)*b -> a - b, a * b^-1 -> a / b,
+// x^3 -> multiplications), drops dead nodes and cuts functions into chunks.
+#include "codegen/CodePlan.h"
+
+#include "ir/Differentiate.h"
+#include "ir/Query.h"
+#include "ldae/model.h"
+#include "support/SourceManager.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+namespace ldae::codegen {
+
+using ir::ExprKind;
+using ir::ExprRef;
+using ir::FuncKind;
+using ir::VarKey;
+
+bool useDenseJacobian(unsigned n) { return n <= LDAE_DENSE_THRESHOLD; }
+
+std::vector<PowIntStep> powIntSteps(int32_t k) {
+  assert(k >= 1);
+  std::vector<PowIntStep> steps;
+  while (k) {
+    bool mul = k & 1;
+    k >>= 1;
+    steps.push_back({mul, k != 0});
+  }
+  return steps;
+}
+
+namespace {
+
+/// Where a variable key lives: y[index] or yp[index].
+struct Slot {
+  uint32_t index;
+  bool derivative;
+};
+using KeyMap = std::map<VarKey, Slot>;
+
+/// The layout rule: slot i's key reads y[i]; the next order of a
+/// differential unknown reads yp[i] (a slot's own key wins a clash).
+/// `slotKeys` overrides unknowns[i].key when not empty.
+KeyMap buildKeyMap(const ir::DaeSystem &sys, const std::vector<bool> &diff,
+                   const std::vector<VarKey> &slotKeys = {}) {
+  auto key = [&](uint32_t i) {
+    return slotKeys.empty() ? sys.unknowns[i].key : slotKeys[i];
+  };
+  KeyMap m;
+  for (uint32_t i = 0; i < sys.unknowns.size(); ++i)
+    m.emplace(key(i), Slot{i, false});
+  for (uint32_t i = 0; i < sys.unknowns.size(); ++i)
+    if (diff[i])
+      m.emplace(VarKey{key(i).var, key(i).order + 1}, Slot{i, true});
+  return m;
+}
+
+std::string keyName(const ir::DaeSystem &sys, VarKey k) {
+  if (sys.model && k.var < sys.model->variables.size())
+    return sys.model->variableName(k);
+  std::string s = "v" + std::to_string(k.var);
+  return k.order ? "der(" + s + (k.order > 1 ? ", " + std::to_string(k.order) : "") + ")" : s;
+}
+
+bool isIntegral(double v) { return std::floor(v) == v && std::fabs(v) < 1e9; }
+
+/// Builds one plan function from IR roots.
+class FunctionBuilder {
+public:
+  FunctionBuilder(PlanFunction &fn, const KeyMap &keys,
+                  const ir::DaeSystem &sys, unsigned nParams)
+      : fn_(fn), keys_(keys), sys_(sys), nParams_(nParams) {}
+
+  /// Lowers `e`; on failure records an error and returns node 0.
+  uint32_t lower(ExprRef e) {
+    // Lower operands first, in topological order, so the recursion below
+    // stays shallow however deep the expression is.
+    if (!memo_.count(e))
+      for (ExprRef sub : ir::topologicalOrder(std::span<const ExprRef>(&e, 1)))
+        if (!memo_.count(sub))
+          memo_.emplace(sub, lowerNode(sub));
+    return memo_.at(e);
+  }
+
+  uint32_t emit(PlanNode n) {
+    auto flag = [&](uint32_t i) { return fn_.nodes[i].mayFail; };
+    switch (n.op) {
+    case OpCode::Div:
+      n.checks = !(fn_.nodes[n.b].op == OpCode::Const && fn_.nodes[n.b].value != 0);
+      break;
+    case OpCode::Pow:
+      n.checks = true;
+      break;
+    case OpCode::Sqrt:
+      n.checks = !(fn_.nodes[n.a].op == OpCode::Const && fn_.nodes[n.a].value >= 0);
+      break;
+    case OpCode::Func1: {
+      auto f = FuncKind(n.sub);
+      n.checks = f == FuncKind::Log || f == FuncKind::Log10 ||
+                 f == FuncKind::Asin || f == FuncKind::Acos;
+      break;
+    }
+    case OpCode::Func2:
+      n.checks = FuncKind(n.sub) == FuncKind::Mod;
+      break;
+    default:
+      break;
+    }
+    n.mayFail = n.checks;
+    for (unsigned i = 0; i < numOperands(n.op); ++i)
+      n.mayFail |= flag(n.operand(i));
+    fn_.nodes.push_back(n);
+    return fn_.nodes.size() - 1;
+  }
+  uint32_t leaf(OpCode op, int32_t index = 0, double value = 0) {
+    PlanNode n;
+    n.op = op;
+    n.index = index;
+    n.value = value;
+    return emit(n);
+  }
+  uint32_t constant(double v) {
+    auto [it, fresh] = consts_.emplace(v, 0);
+    if (fresh)
+      it->second = leaf(OpCode::Const, 0, v);
+    return it->second;
+  }
+  uint32_t cj() {
+    if (cj_ < 0)
+      cj_ = leaf(OpCode::Cj);
+    return cj_;
+  }
+  uint32_t op(OpCode o, uint32_t a, uint32_t b = 0, uint32_t c = 0,
+              uint8_t sub = 0) {
+    PlanNode n;
+    n.op = o;
+    n.a = a;
+    n.b = b;
+    n.c = c;
+    n.sub = sub;
+    return emit(n);
+  }
+  void store(uint32_t node, uint8_t array, uint32_t index, uint32_t row) {
+    fn_.stores.push_back({node, array, index, row});
+  }
+  const std::string &error() const { return error_; }
+
+private:
+  uint32_t node(ExprRef e) { return lower(e); }
+
+  uint32_t lowerNode(ExprRef e) {
+    switch (e->kind()) {
+    case ExprKind::Constant:
+      return constant(e->constant());
+    case ExprKind::Parameter:
+      if (e->param() >= nParams_)
+        fail("parameter index " + std::to_string(e->param()) +
+             " is out of range");
+      return leaf(OpCode::LoadP, e->param());
+    case ExprKind::Variable:
+      return variable(e->varKey());
+    case ExprKind::Pre: // the value before an event: the current value here
+      return variable(VarKey{e->var(), 0});
+    case ExprKind::Time:
+      return leaf(OpCode::Time);
+    case ExprKind::Add:
+      return lowerSum(e);
+    case ExprKind::Mul:
+      return lowerProduct(e->operands());
+    case ExprKind::Pow:
+      return lowerPow(e);
+    case ExprKind::Call: {
+      FuncKind f = e->func();
+      if (f == FuncKind::Sqrt)
+        return op(OpCode::Sqrt, node(e->operand(0)));
+      if (ir::funcArity(f) == 1)
+        return op(OpCode::Func1, node(e->operand(0)), 0, 0, uint8_t(f));
+      return op(OpCode::Func2, node(e->operand(0)), node(e->operand(1)), 0,
+                uint8_t(f));
+    }
+    case ExprKind::If:
+      return op(OpCode::Select, node(e->operand(0)), node(e->operand(1)),
+                node(e->operand(2)));
+    case ExprKind::Compare:
+      return op(OpCode::Compare, node(e->operand(0)), node(e->operand(1)), 0,
+                uint8_t(e->compare()));
+    case ExprKind::And:
+    case ExprKind::Or: {
+      OpCode o = e->kind() == ExprKind::And ? OpCode::And : OpCode::Or;
+      uint32_t acc = node(e->operand(0));
+      if (e->numOperands() == 1)
+        return op(OpCode::Compare, acc, constant(0), 0,
+                  uint8_t(ir::CompareKind::Ne));
+      for (unsigned i = 1; i < e->numOperands(); ++i)
+        acc = op(o, acc, node(e->operand(i)));
+      return acc;
+    }
+    case ExprKind::Not:
+      return op(OpCode::Not, node(e->operand(0)));
+    }
+    fail("unknown expression kind");
+    return constant(0);
+  }
+
+  uint32_t variable(VarKey k) {
+    auto it = keys_.find(k);
+    if (it == keys_.end()) {
+      fail("'" + keyName(sys_, k) +
+           "' is neither an unknown nor the derivative of a differential "
+           "unknown of the system");
+      return constant(0);
+    }
+    return leaf(it->second.derivative ? OpCode::LoadYp : OpCode::LoadY,
+                it->second.index);
+  }
+
+  /// a + (-1)*b + ... -> (a - b) + ...; terms keep their order.
+  uint32_t lowerSum(ExprRef e) {
+    struct Term {
+      uint32_t node;
+      bool negated;
+    };
+    std::vector<Term> terms;
+    for (ExprRef t : e->operands()) {
+      if (t->kind() == ExprKind::Mul && t->operand(0)->isConstant(-1.0)) {
+        auto rest = t->operands().subspan(1);
+        terms.push_back({rest.size() == 1 ? node(rest[0]) : lowerProduct(rest),
+                         true});
+      } else {
+        terms.push_back({node(t), false});
+      }
+    }
+    auto firstPos = std::find_if(terms.begin(), terms.end(),
+                                 [](const Term &t) { return !t.negated; });
+    uint32_t acc;
+    if (firstPos == terms.end()) {
+      acc = op(OpCode::Neg, terms[0].node);
+      firstPos = terms.begin();
+    } else {
+      acc = firstPos->node;
+    }
+    for (auto it = terms.begin(); it != terms.end(); ++it)
+      if (it != firstPos)
+        acc = op(it->negated ? OpCode::Sub : OpCode::Add, acc, it->node);
+    return acc;
+  }
+
+  /// c * a * b^-1 * d^-2 -> (c * a) / (b * d^2); -1 * x -> -x.
+  uint32_t lowerProduct(std::span<const ExprRef> factors) {
+    double c = 1;
+    std::vector<uint32_t> num, den;
+    for (ExprRef f : factors) {
+      if (f->isConstant()) {
+        c *= f->constant();
+        continue;
+      }
+      if (f->kind() == ExprKind::Pow && f->operand(1)->isConstant()) {
+        double k = f->operand(1)->constant();
+        if (k < 0 && (isIntegral(k) || k == -0.5)) {
+          den.push_back(positivePower(node(f->operand(0)), -k));
+          continue;
+        }
+      }
+      num.push_back(node(f));
+    }
+    bool negate = c == -1 && !num.empty();
+    if (!negate && (c != 1 || num.empty()))
+      num.insert(num.begin(), constant(c));
+    uint32_t acc = num[0];
+    for (size_t i = 1; i < num.size(); ++i)
+      acc = op(OpCode::Mul, acc, num[i]);
+    if (!den.empty()) {
+      uint32_t d = den[0];
+      for (size_t i = 1; i < den.size(); ++i)
+        d = op(OpCode::Mul, d, den[i]);
+      acc = op(OpCode::Div, acc, d);
+    }
+    if (negate)
+      acc = op(OpCode::Neg, acc);
+    return acc;
+  }
+
+  /// base^k for k a positive integer or 0.5.
+  uint32_t positivePower(uint32_t base, double k) {
+    if (k == 0.5)
+      return op(OpCode::Sqrt, base);
+    if (k == 1)
+      return base;
+    if (k <= 64) {
+      uint32_t n = op(OpCode::PowInt, base);
+      fn_.nodes[n].index = int32_t(k);
+      return n;
+    }
+    return op(OpCode::Pow, base, constant(k));
+  }
+
+  uint32_t lowerPow(ExprRef e) {
+    uint32_t base = node(e->operand(0));
+    ExprRef ex = e->operand(1);
+    if (ex->isConstant()) {
+      double k = ex->constant();
+      if (k > 0 && (isIntegral(k) || k == 0.5))
+        return positivePower(base, k);
+      if (k < 0 && (isIntegral(k) || k == -0.5))
+        return op(OpCode::Div, constant(1), positivePower(base, -k));
+    }
+    return op(OpCode::Pow, base, node(ex));
+  }
+
+  void fail(std::string msg) {
+    if (error_.empty())
+      error_ = std::move(msg);
+  }
+
+  PlanFunction &fn_;
+  const KeyMap &keys_;
+  const ir::DaeSystem &sys_;
+  unsigned nParams_;
+  std::unordered_map<ExprRef, uint32_t> memo_;
+  std::map<double, uint32_t> consts_;
+  int64_t cj_ = -1;
+  std::string error_;
+};
+
+/// Removes nodes no store reaches and renumbers the rest (order kept).
+void removeDeadNodes(PlanFunction &fn) {
+  std::vector<char> live(fn.nodes.size(), 0);
+  for (const PlanStore &s : fn.stores)
+    live[s.node] = 1;
+  for (size_t k = fn.nodes.size(); k-- > 0;) {
+    if (!live[k] || isLeaf(fn.nodes[k].op))
+      continue;
+    const PlanNode &n = fn.nodes[k];
+    for (unsigned i = 0; i < numOperands(n.op); ++i)
+      live[n.operand(i)] = 1;
+  }
+  std::vector<uint32_t> newIndex(fn.nodes.size(), 0);
+  std::vector<PlanNode> kept;
+  for (size_t k = 0; k < fn.nodes.size(); ++k) {
+    if (!live[k])
+      continue;
+    PlanNode n = fn.nodes[k];
+    n.a = newIndex[n.a];
+    n.b = newIndex[n.b];
+    n.c = newIndex[n.c];
+    newIndex[k] = kept.size();
+    kept.push_back(n);
+  }
+  fn.nodes = std::move(kept);
+  for (PlanStore &s : fn.stores)
+    s.node = newIndex[s.node];
+}
+
+/// Cuts `fn` into chunks of at most `size` non-leaf nodes; values a later
+/// chunk reads get scratch slots.
+void assignChunks(PlanFunction &fn, unsigned size) {
+  size = std::max(1u, size);
+  std::vector<uint32_t> chunkOf(fn.nodes.size());
+  uint32_t nonLeaf = 0;
+  for (size_t k = 0; k < fn.nodes.size(); ++k) {
+    chunkOf[k] = nonLeaf / size;
+    if (!isLeaf(fn.nodes[k].op))
+      ++nonLeaf;
+  }
+  uint32_t numChunks = std::max<uint32_t>(1, (nonLeaf + size - 1) / size);
+  fn.chunks.assign(numChunks, PlanChunk{});
+  // Node ranges.
+  for (uint32_t c = 0; c < numChunks; ++c) {
+    fn.chunks[c].nodeBegin = c == 0 ? 0 : fn.chunks[c - 1].nodeEnd;
+    uint32_t end = fn.chunks[c].nodeBegin;
+    while (end < fn.nodes.size() && (chunkOf[end] == c || c + 1 == numChunks))
+      ++end;
+    fn.chunks[c].nodeEnd = end;
+  }
+  // Stores run in order, each in the chunk where its value is ready.
+  std::vector<uint32_t> storeChunk(fn.stores.size());
+  uint32_t pos = 0;
+  for (size_t i = 0; i < fn.stores.size(); ++i) {
+    pos = std::max(pos, fn.stores[i].node);
+    storeChunk[i] = std::min(chunkOf.empty() ? 0 : chunkOf[pos], numChunks - 1);
+  }
+  for (uint32_t c = 0, i = 0; c < numChunks; ++c) {
+    fn.chunks[c].storeBegin = i;
+    while (i < fn.stores.size() && storeChunk[i] == c)
+      ++i;
+    fn.chunks[c].storeEnd = i;
+  }
+  // Spill slots for values crossing a chunk boundary.
+  fn.spill.assign(fn.nodes.size(), -1);
+  fn.numSpillSlots = 0;
+  auto use = [&](uint32_t operand, uint32_t userChunk) {
+    if (isLeaf(fn.nodes[operand].op) || chunkOf[operand] == userChunk ||
+        fn.spill[operand] >= 0)
+      return;
+    fn.spill[operand] = fn.numSpillSlots;
+    fn.numSpillSlots += fn.nodes[operand].mayFail ? 2 : 1;
+  };
+  if (numChunks > 1) {
+    for (size_t k = 0; k < fn.nodes.size(); ++k)
+      for (unsigned i = 0; i < numOperands(fn.nodes[k].op); ++i)
+        use(fn.nodes[k].operand(i), chunkOf[k]);
+    for (size_t i = 0; i < fn.stores.size(); ++i)
+      use(fn.stores[i].node, storeChunk[i]);
+  }
+}
+
+struct JacEntry {
+  uint32_t col, row;
+  ExprRef dy, dyp;
+};
+
+/// Nonzero entries of dF/dy and dF/dy' (merged per (col,row)), CSC order.
+std::vector<JacEntry> jacobianEntries(const ir::DaeSystem &sys,
+                                      std::span<const ExprRef> rows,
+                                      const KeyMap &keys,
+                                      ir::Differentiator &diff) {
+  std::map<VarKey, std::vector<uint32_t>> keyRows;
+  for (uint32_t r = 0; r < rows.size(); ++r)
+    for (VarKey k : ir::freeVariables(rows[r]))
+      if (keys.count(k))
+        keyRows[k].push_back(r);
+  std::vector<JacEntry> entries;
+  for (auto &[k, rs] : keyRows) {
+    Slot s = keys.at(k);
+    for (uint32_t r : rs) {
+      ExprRef d = diff.partial(rows[r], k);
+      if (d->isConstant(0.0))
+        continue;
+      entries.push_back({s.index, r, s.derivative ? nullptr : d,
+                         s.derivative ? d : nullptr});
+    }
+  }
+  std::sort(entries.begin(), entries.end(), [](auto &a, auto &b) {
+    return std::tie(a.col, a.row) < std::tie(b.col, b.row);
+  });
+  std::vector<JacEntry> merged;
+  for (const JacEntry &e : entries) {
+    if (!merged.empty() && merged.back().col == e.col &&
+        merged.back().row == e.row) {
+      if (e.dy)
+        merged.back().dy = e.dy;
+      if (e.dyp)
+        merged.back().dyp = e.dyp;
+    } else {
+      merged.push_back(e);
+    }
+  }
+  return merged;
+}
+
+/// Plan node of dy + cj * dyp (either part may be absent).
+uint32_t jacobianValue(FunctionBuilder &b, const JacEntry &e) {
+  uint32_t part = 0;
+  bool hasYp = false;
+  if (e.dyp) {
+    hasYp = true;
+    part = e.dyp->isConstant(1.0) ? b.cj() : b.op(OpCode::Mul, b.cj(), b.lower(e.dyp));
+  }
+  if (!e.dy)
+    return part;
+  uint32_t dy = b.lower(e.dy);
+  return hasYp ? b.op(OpCode::Add, dy, part) : dy;
+}
+
+std::string cIdentifier(const std::string &s) {
+  std::string out;
+  for (char ch : s)
+    out += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0])))
+    out = "m_" + out;
+  return out;
+}
+
+} // namespace
+
+Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
+                               const PlanOptions &opts) {
+  const unsigned n = sys.unknowns.size();
+  if (sys.stateSets.empty())
+    return Error{"the system has no state set"};
+  for (size_t s = 0; s < sys.stateSets.size(); ++s) {
+    const ir::StateSet &set = sys.stateSets[s];
+    if (set.residuals.size() != n)
+      return Error{"state set " + std::to_string(s) + " has " +
+                   std::to_string(set.residuals.size()) + " residuals for " +
+                   std::to_string(n) + " unknowns"};
+    if (!set.differential.empty() && set.differential.size() != n)
+      return Error{"state set " + std::to_string(s) +
+                   " has a wrong number of differential flags"};
+    if (!set.keys.empty() && set.keys.size() != n)
+      return Error{"state set " + std::to_string(s) +
+                   " has a wrong number of slot keys"};
+    if (set.pivot.size() != size_t(set.pivotSize) * set.pivotSize)
+      return Error{"state set " + std::to_string(s) +
+                   " has a pivot matrix of the wrong size"};
+  }
+
+  CodePlan plan;
+  plan.name = sys.model && !sys.model->name.empty() ? sys.model->name : "model";
+  plan.symbolName = cIdentifier(plan.name);
+  plan.n = n;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  plan.startTime = plan.stopTime = plan.tolerance = plan.interval = nan;
+  if (sys.model) {
+    const ir::Experiment &x = sys.model->experiment;
+    plan.startTime = x.startTime.value_or(nan);
+    plan.stopTime = x.stopTime.value_or(nan);
+    plan.tolerance = x.tolerance.value_or(nan);
+    plan.interval = x.interval.value_or(nan);
+  }
+  for (const ir::SystemUnknown &u : sys.unknowns) {
+    plan.varNames.push_back(u.name);
+    plan.startY.push_back(u.start);
+    plan.startYp.push_back(u.startDerivative);
+    plan.nominal.push_back(u.nominal > 0 ? u.nominal : 1.0);
+    plan.fixed.push_back(u.fixed);
+  }
+  plan.paramValues = sys.parameterValues;
+  plan.paramNames = sys.parameterNames;
+  plan.paramNames.resize(plan.paramValues.size());
+  for (size_t i = 0; i < plan.paramNames.size(); ++i)
+    if (plan.paramNames[i].empty())
+      plan.paramNames[i] = sys.model && i < sys.model->parameters.size()
+                               ? sys.model->parameters[i].name
+                               : "p" + std::to_string(i);
+  if (opts.sources && !sys.residualLocs.empty()) {
+    for (const SourceLoc &loc : sys.residualLocs)
+      plan.residualOrigin.push_back(
+          loc.valid() ? opts.sources->path(loc.file) + ":" +
+                            std::to_string(loc.line)
+                      : std::string("<generated>"));
+    plan.residualOrigin.resize(n, "<generated>");
+  }
+  for (const ir::SystemOutput &o : sys.outputs)
+    plan.outputNames.push_back(o.name);
+
+  const unsigned nParams = plan.paramValues.size();
+  ir::Differentiator diff(*sys.ctx);
+  std::string error;
+
+  // Adds a function built by `build` and returns its index.
+  auto addFunction = [&](std::string name, FnSig sig, const KeyMap &keys,
+                         auto build) {
+    plan.functions.emplace_back();
+    PlanFunction &fn = plan.functions.back();
+    fn.name = std::move(name);
+    fn.sig = sig;
+    FunctionBuilder b(fn, keys, sys, nParams);
+    build(b, fn);
+    if (error.empty() && !b.error().empty())
+      error = "in " + fn.name + ": " + b.error();
+    removeDeadNodes(fn);
+    assignChunks(fn, opts.chunkSize);
+    return int(plan.functions.size() - 1);
+  };
+  auto valuesFunction = [&](std::string name, std::span<const ExprRef> exprs,
+                            const KeyMap &keys) {
+    return addFunction(std::move(name), FnSig::Values, keys,
+                       [&](FunctionBuilder &b, PlanFunction &) {
+                         for (uint32_t i = 0; i < exprs.size(); ++i)
+                           b.store(b.lower(exprs[i]), 0, i, i);
+                       });
+  };
+
+  std::vector<bool> anyDiff(n, false);
+  for (const ir::StateSet &set : sys.stateSets)
+    for (unsigned i = 0; i < n; ++i)
+      anyDiff[i] = anyDiff[i] || (set.differential.empty()
+                                      ? sys.unknowns[i].differential
+                                      : set.differential[i]);
+
+  for (size_t s = 0; s < sys.stateSets.size(); ++s) {
+    const ir::StateSet &set = sys.stateSets[s];
+    std::vector<bool> flags(n);
+    for (unsigned i = 0; i < n; ++i)
+      flags[i] = set.differential.empty() ? sys.unknowns[i].differential
+                                          : set.differential[i];
+    KeyMap keys = buildKeyMap(sys, flags, set.keys);
+    StateSetPlan sp;
+    sp.isDifferential.assign(flags.begin(), flags.end());
+    std::string suffix = "_" + std::to_string(s);
+    sp.residual = valuesFunction("residual" + suffix, set.residuals, keys);
+
+    std::vector<JacEntry> entries =
+        jacobianEntries(sys, set.residuals, keys, diff);
+    sp.colptr.assign(n + 1, 0);
+    for (const JacEntry &e : entries) {
+      ++sp.colptr[e.col + 1];
+      sp.rowind.push_back(e.row);
+    }
+    for (unsigned j = 0; j < n; ++j)
+      sp.colptr[j + 1] += sp.colptr[j];
+    sp.jacobianCsc = addFunction(
+        "jac_csc" + suffix, FnSig::Jacobian, keys,
+        [&](FunctionBuilder &b, PlanFunction &) {
+          for (uint32_t k = 0; k < entries.size(); ++k)
+            b.store(jacobianValue(b, entries[k]), 0, k, entries[k].row);
+        });
+    if (useDenseJacobian(n))
+      sp.jacobianDense = addFunction(
+          "jac_dense" + suffix, FnSig::Jacobian, keys,
+          [&](FunctionBuilder &b, PlanFunction &fn) {
+            fn.zeroFill[0] = n * n;
+            for (const JacEntry &e : entries)
+              b.store(jacobianValue(b, e), 0, e.col * n + e.row, e.row);
+          });
+    if (set.pivotSize > 0) {
+      sp.pivotSize = set.pivotSize;
+      sp.pivot = valuesFunction("pivot" + suffix, set.pivot, keys);
+    }
+    sp.description = "states:";
+    for (size_t i = 0; i < set.states.size(); ++i)
+      sp.description += (i ? ", " : " ") + set.states[i];
+    plan.stateSets.push_back(std::move(sp));
+  }
+
+  KeyMap keys = buildKeyMap(sys, anyDiff);
+  plan.nInit = sys.initialResiduals.size();
+  plan.initResidual =
+      valuesFunction("init_residual", sys.initialResiduals, keys);
+  plan.initJacobian = addFunction(
+      "init_jacobian", FnSig::InitJacobian, keys,
+      [&](FunctionBuilder &b, PlanFunction &fn) {
+        unsigned m = plan.nInit;
+        fn.zeroFill[0] = fn.zeroFill[1] = m * n;
+        for (const JacEntry &e :
+             jacobianEntries(sys, sys.initialResiduals, keys, diff)) {
+          if (e.dy)
+            b.store(b.lower(e.dy), 0, e.col * m + e.row, e.row);
+          if (e.dyp)
+            b.store(b.lower(e.dyp), 1, e.col * m + e.row, e.row);
+        }
+      });
+  plan.nRoots = sys.roots.size();
+  plan.roots = valuesFunction("roots", sys.roots, keys);
+  std::vector<ExprRef> outs;
+  for (const ir::SystemOutput &o : sys.outputs)
+    outs.push_back(o.value);
+  plan.nOutputs = outs.size();
+  plan.outputs = valuesFunction("outputs", outs, keys);
+  plan.nDrift = sys.constraints.size();
+  plan.drift = valuesFunction("drift", sys.constraints, keys);
+
+  if (!error.empty())
+    return Error{error};
+  return plan;
+}
+
+} // namespace ldae::codegen

@@ -1,0 +1,160 @@
+// The lowered form every code generator consumes: a DaeSystem turned once
+// into straight-line functions (a topological list of scalar operations plus
+// the stores that write the function's outputs). The LLVM emitter, the C
+// printer and the interpreter all walk this same plan, so they cannot
+// disagree about what is computed, in which order, or which row a domain
+// error names. See docs/codegen.md for the semantics of every operation.
+#pragma once
+
+#include "ir/DaeSystem.h"
+#include "support/Expected.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ldae::codegen {
+
+/// One scalar operation. Leaves (Const ... Cj) read an input; they are cheap
+/// and re-materialized wherever used, so they never cross a chunk boundary.
+enum class OpCode : uint8_t {
+  Const,  // value
+  LoadY,  // y[index]
+  LoadYp, // yp[index]
+  LoadP,  // p[index]
+  Time,   // t
+  Cj,     // the Jacobian's cj (Jacobian functions only)
+  Add,    // a + b
+  Sub,    // a - b
+  Mul,    // a * b
+  Div,    // a / b            check: b == 0
+  Neg,    // -a
+  PowInt, // a ^ index, index >= 1, by square-and-multiply (powIntSteps)
+  Pow,    // pow(a, b)        check: (a < 0 && b not integer) || (a == 0 && b < 0)
+  Sqrt,   // sqrt(a)          check: a < 0
+  Func1,  // sub = FuncKind   check: log/log10 !(a > 0), asin/acos |a| > 1
+  Func2,  // sub = FuncKind   check: mod b == 0
+  Select, // a != 0 ? b : c   (error bit of the branch taken only)
+  Compare,// sub = CompareKind, 1 or 0
+  And,    // (a != 0 && b != 0), 1 or 0 (b's error bit only when a != 0)
+  Or,     // (a != 0 || b != 0), 1 or 0 (b's error bit only when a == 0)
+  Not,    // a == 0, 1 or 0
+};
+
+/// True for the leaves that read inputs or constants.
+inline bool isLeaf(OpCode op) { return op <= OpCode::Cj; }
+
+/// Number of operands (a, b, c in order) an operation reads.
+inline unsigned numOperands(OpCode op) {
+  switch (op) {
+  case OpCode::Neg:
+  case OpCode::PowInt:
+  case OpCode::Sqrt:
+  case OpCode::Func1:
+  case OpCode::Not:
+    return 1;
+  case OpCode::Select:
+    return 3;
+  default:
+    return isLeaf(op) ? 0 : 2;
+  }
+}
+
+struct PlanNode {
+  OpCode op = OpCode::Const;
+  uint8_t sub = 0;       // FuncKind or CompareKind
+  bool checks = false;   // this operation has a domain check
+  bool mayFail = false;  // its error bit can be set (own check or operands)
+  uint32_t a = 0, b = 0, c = 0; // operand node indices
+  int32_t index = 0;     // LoadY/LoadYp/LoadP slot; PowInt exponent
+  double value = 0;      // Const
+
+  uint32_t operand(unsigned i) const { return i == 0 ? a : i == 1 ? b : c; }
+};
+
+/// out<array>[index] = value of `node`; a set error bit makes the function
+/// return 1 + row (the first such store in order wins).
+struct PlanStore {
+  uint32_t node = 0;
+  uint8_t array = 0; // 0: first output array, 1: second (init Jacobian Jyp)
+  uint32_t index = 0;
+  uint32_t row = 0;
+};
+
+/// The C ABI signature a function implements.
+enum class FnSig {
+  Values,       // int f(double t, y, yp, p, double *out)
+  Jacobian,     // int f(double t, y, yp, p, double cj, double *out)
+  InitJacobian, // int f(double t, y, yp, p, double *out0, double *out1)
+};
+
+/// A contiguous range of nodes compiled into one machine function, with the
+/// stores it performs. Bounded size keeps compile time linear.
+struct PlanChunk {
+  uint32_t nodeBegin = 0, nodeEnd = 0;
+  uint32_t storeBegin = 0, storeEnd = 0;
+};
+
+struct PlanFunction {
+  std::string name; // symbol suffix: "residual_0", "jac_csc_1", "outputs"...
+  FnSig sig = FnSig::Values;
+  std::vector<PlanNode> nodes; // operands before users
+  std::vector<PlanStore> stores;
+  uint32_t zeroFill[2] = {0, 0}; // elements of out0/out1 zeroed first (dense)
+  std::vector<PlanChunk> chunks;   // at least one
+  /// Per node: slot in the function's scratch array holding its value (and
+  /// at slot + 1 its error bit when mayFail) when a later chunk uses it; -1
+  /// otherwise.
+  std::vector<int32_t> spill;
+  uint32_t numSpillSlots = 0;
+};
+
+struct StateSetPlan {
+  std::vector<int> isDifferential;
+  int residual = -1, jacobianDense = -1, jacobianCsc = -1, pivot = -1;
+  int pivotSize = 0;
+  std::vector<int> colptr, rowind; // CSC pattern of dF/dy + cj dF/dy'
+  std::string description;
+};
+
+/// Everything the C ABI struct holds, as plain data plus plan functions.
+struct CodePlan {
+  std::string name;       // the model's name
+  std::string symbolName; // a C identifier derived from it
+  std::vector<PlanFunction> functions;
+  std::vector<StateSetPlan> stateSets;
+  int initResidual = -1, initJacobian = -1, roots = -1, outputs = -1,
+      drift = -1;
+
+  unsigned n = 0, nInit = 0, nRoots = 0, nOutputs = 0, nDrift = 0;
+  std::vector<std::string> varNames, paramNames, outputNames, residualOrigin;
+  std::vector<double> startY, startYp, nominal, paramValues;
+  std::vector<int> fixed;
+  double startTime, stopTime, tolerance, interval; // NaN when unset
+};
+
+struct PlanOptions {
+  /// Non-leaf nodes per chunk (machine function).
+  unsigned chunkSize = 2000;
+  /// Resolves residual locations to "file:line" (optional).
+  const class ldae::SourceManager *sources = nullptr;
+};
+
+/// Lowers `sys` (validated against the layout rule) into a code plan,
+/// differentiating residuals for the Jacobians. Fails when an expression
+/// reads a variable that is not in the unknown layout.
+Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
+                               const PlanOptions &opts = {});
+
+/// Square-and-multiply schedule for x^k (k >= 1) that every backend follows
+/// so results agree bit for bit: see PowInt.
+struct PowIntStep {
+  bool multiplyResult; // result = result ? result * base : base
+  bool squareBase;     // then base = base * base
+};
+std::vector<PowIntStep> powIntSteps(int32_t k);
+
+/// The threshold rule shared with the runtime (LDAE_DENSE_THRESHOLD).
+bool useDenseJacobian(unsigned n);
+
+} // namespace ldae::codegen

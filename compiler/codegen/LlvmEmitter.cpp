@@ -1,0 +1,504 @@
+// LLVM IR emission over the code plan and the ORC LLJIT backend. Each plan
+// node becomes one instruction (or a short sequence) computed once; domain
+// errors are i1 bits carried alongside values exactly as the interpreter
+// does; functions over chunkSize nodes are split into non-inlined helpers
+// that pass values through a scratch array, so O2 and instruction selection
+// see bounded functions and compile time grows linearly with model size.
+#include "codegen/LlvmEmitter.h"
+
+#include "llvm/ExecutionEngine/Orc/ExecutionUtils.h"
+#include "llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h"
+#include "llvm/ExecutionEngine/Orc/LLJIT.h"
+#include "llvm/ExecutionEngine/Orc/ThreadSafeModule.h"
+#include "llvm/IR/IRBuilder.h"
+#include "llvm/IR/Intrinsics.h"
+#include "llvm/IR/LLVMContext.h"
+#include "llvm/IR/Module.h"
+#include "llvm/IR/Verifier.h"
+#include "llvm/Passes/PassBuilder.h"
+#include "llvm/Support/TargetSelect.h"
+#include "llvm/Support/raw_ostream.h"
+#include "llvm/Target/TargetMachine.h"
+
+#include <cmath>
+#include <mutex>
+
+namespace ldae::codegen {
+
+using ir::CompareKind;
+using ir::FuncKind;
+
+std::string functionSymbol(const CodePlan &plan, const PlanFunction &fn) {
+  return plan.symbolName + "_" + fn.name;
+}
+
+namespace {
+
+/// Scratch arrays up to this many bytes live on the stack; larger ones are
+/// allocated with malloc.
+constexpr uint64_t kMaxStackScratch = 64 * 1024;
+
+/// libm functions called by name (no LLVM intrinsic lowers to them here).
+const char *libmName(FuncKind f) {
+  switch (f) {
+  case FuncKind::Tan: return "tan";
+  case FuncKind::Asin: return "asin";
+  case FuncKind::Acos: return "acos";
+  case FuncKind::Atan: return "atan";
+  case FuncKind::Atan2: return "atan2";
+  case FuncKind::Sinh: return "sinh";
+  case FuncKind::Cosh: return "cosh";
+  case FuncKind::Tanh: return "tanh";
+  default: return nullptr;
+  }
+}
+
+/// Emits the body of one chunk of a plan function into the current block.
+class ChunkEmitter {
+public:
+  /// Arguments of the chunk: t, y, yp, p, cj, out0, out1, tmp (any may be
+  /// null when the signature lacks it).
+  struct Args {
+    llvm::Value *t, *y, *yp, *p, *cj, *out0, *out1, *tmp;
+  };
+
+  ChunkEmitter(llvm::IRBuilder<> &b, llvm::Module &m, const PlanFunction &fn,
+               const PlanChunk &chunk, Args args)
+      : b_(b), m_(m), fn_(fn), chunk_(chunk), args_(args),
+        dbl_(b.getDoubleTy()), val_(fn.nodes.size(), nullptr),
+        err_(fn.nodes.size(), nullptr) {}
+
+  /// Emits nodes and stores; returns the i32 return code.
+  llvm::Value *emit() {
+    for (uint32_t k = chunk_.nodeBegin; k < chunk_.nodeEnd; ++k) {
+      const PlanNode &n = fn_.nodes[k];
+      if (isLeaf(n.op))
+        continue;
+      computeNode(k);
+      if (fn_.spill[k] >= 0) {
+        b_.CreateStore(val_[k], slot(fn_.spill[k]));
+        if (n.mayFail)
+          b_.CreateStore(b_.CreateUIToFP(err_[k], dbl_),
+                         slot(fn_.spill[k] + 1));
+      }
+    }
+    llvm::Value *rc = b_.getInt32(0);
+    for (uint32_t i = chunk_.storeBegin; i < chunk_.storeEnd; ++i) {
+      const PlanStore &s = fn_.stores[i];
+      llvm::Value *out = s.array ? args_.out1 : args_.out0;
+      b_.CreateStore(value(s.node), b_.CreateConstInBoundsGEP1_64(
+                                        dbl_, out, s.index));
+      if (fn_.nodes[s.node].mayFail) {
+        llvm::Value *first = b_.CreateAnd(
+            b_.CreateICmpEQ(rc, b_.getInt32(0)), error(s.node));
+        rc = b_.CreateSelect(first, b_.getInt32(s.row + 1), rc);
+      }
+    }
+    return rc;
+  }
+
+private:
+  bool inChunk(uint32_t k) const {
+    return k >= chunk_.nodeBegin && k < chunk_.nodeEnd;
+  }
+  llvm::Value *slot(int32_t i) {
+    return b_.CreateConstInBoundsGEP1_64(dbl_, args_.tmp, i);
+  }
+  llvm::Value *load(llvm::Value *base, int64_t i) {
+    return b_.CreateLoad(dbl_, b_.CreateConstInBoundsGEP1_64(dbl_, base, i));
+  }
+
+  /// The value of node k here: leaves re-materialized, earlier chunks'
+  /// values loaded from the scratch array.
+  llvm::Value *value(uint32_t k) {
+    if (val_[k])
+      return val_[k];
+    const PlanNode &n = fn_.nodes[k];
+    llvm::Value *v = nullptr;
+    switch (n.op) {
+    case OpCode::Const: v = llvm::ConstantFP::get(dbl_, n.value); break;
+    case OpCode::LoadY: v = load(args_.y, n.index); break;
+    case OpCode::LoadYp: v = load(args_.yp, n.index); break;
+    case OpCode::LoadP: v = load(args_.p, n.index); break;
+    case OpCode::Time: v = args_.t; break;
+    case OpCode::Cj: v = args_.cj; break;
+    default:
+      assert(!inChunk(k) && fn_.spill[k] >= 0 && "value used before defined");
+      v = b_.CreateLoad(dbl_, slot(fn_.spill[k]));
+    }
+    return val_[k] = v;
+  }
+  llvm::Value *error(uint32_t k) {
+    if (!fn_.nodes[k].mayFail)
+      return b_.getFalse();
+    if (err_[k])
+      return err_[k];
+    assert(!inChunk(k) && fn_.spill[k] >= 0);
+    return err_[k] = b_.CreateFCmpUNE(
+               b_.CreateLoad(dbl_, slot(fn_.spill[k] + 1)),
+               llvm::ConstantFP::get(dbl_, 0.0));
+  }
+
+  llvm::Value *intrinsic(llvm::Intrinsic::ID id, llvm::Value *a) {
+    return b_.CreateUnaryIntrinsic(id, a);
+  }
+  llvm::Value *libm(const char *name, llvm::ArrayRef<llvm::Value *> args) {
+    std::vector<llvm::Type *> types(args.size(), dbl_);
+    llvm::FunctionCallee f =
+        m_.getOrInsertFunction(name, llvm::FunctionType::get(dbl_, types, false));
+    return b_.CreateCall(f, args);
+  }
+  llvm::Value *zero() { return llvm::ConstantFP::get(dbl_, 0.0); }
+  llvm::Value *one() { return llvm::ConstantFP::get(dbl_, 1.0); }
+  llvm::Value *boolean(llvm::Value *i1) { return b_.CreateUIToFP(i1, dbl_); }
+  llvm::Value *truth(llvm::Value *v) { return b_.CreateFCmpUNE(v, zero()); }
+
+  void computeNode(uint32_t k) {
+    const PlanNode &n = fn_.nodes[k];
+    llvm::Value *a = value(n.a);
+    llvm::Value *b = numOperands(n.op) >= 2 ? value(n.b) : nullptr;
+    llvm::Value *r = nullptr, *check = nullptr;
+    switch (n.op) {
+    case OpCode::Add: r = b_.CreateFAdd(a, b); break;
+    case OpCode::Sub: r = b_.CreateFSub(a, b); break;
+    case OpCode::Mul: r = b_.CreateFMul(a, b); break;
+    case OpCode::Div:
+      r = b_.CreateFDiv(a, b);
+      check = b_.CreateFCmpOEQ(b, zero());
+      break;
+    case OpCode::Neg: r = b_.CreateFNeg(a); break;
+    case OpCode::PowInt: {
+      llvm::Value *base = a;
+      for (PowIntStep s : powIntSteps(n.index)) {
+        if (s.multiplyResult)
+          r = r ? b_.CreateFMul(r, base) : base;
+        if (s.squareBase)
+          base = b_.CreateFMul(base, base);
+      }
+      break;
+    }
+    case OpCode::Pow:
+      r = b_.CreateBinaryIntrinsic(llvm::Intrinsic::pow, a, b);
+      check = b_.CreateOr(
+          b_.CreateAnd(b_.CreateFCmpOLT(a, zero()),
+                       b_.CreateFCmpUNE(
+                           intrinsic(llvm::Intrinsic::floor, b), b)),
+          b_.CreateAnd(b_.CreateFCmpOEQ(a, zero()),
+                       b_.CreateFCmpOLT(b, zero())));
+      break;
+    case OpCode::Sqrt:
+      r = intrinsic(llvm::Intrinsic::sqrt, a);
+      check = b_.CreateFCmpOLT(a, zero());
+      break;
+    case OpCode::Func1:
+      r = unary(FuncKind(n.sub), a, check);
+      break;
+    case OpCode::Func2:
+      switch (FuncKind(n.sub)) {
+      case FuncKind::Atan2: r = libm("atan2", {a, b}); break;
+      case FuncKind::Min: r = b_.CreateSelect(b_.CreateFCmpOLT(a, b), a, b); break;
+      case FuncKind::Max: r = b_.CreateSelect(b_.CreateFCmpOGT(a, b), a, b); break;
+      case FuncKind::Mod:
+        r = b_.CreateFSub(
+            a, b_.CreateFMul(intrinsic(llvm::Intrinsic::floor,
+                                       b_.CreateFDiv(a, b)),
+                             b));
+        check = b_.CreateFCmpOEQ(b, zero());
+        break;
+      default: assert(false && "not a binary built-in");
+      }
+      break;
+    case OpCode::Select: {
+      llvm::Value *c = truth(a);
+      r = b_.CreateSelect(c, b, value(n.c));
+      if (n.mayFail)
+        err_[k] = b_.CreateOr(error(n.a),
+                              b_.CreateSelect(c, error(n.b), error(n.c)));
+      break;
+    }
+    case OpCode::Compare: {
+      static const llvm::CmpInst::Predicate preds[] = {
+          llvm::CmpInst::FCMP_OLT, llvm::CmpInst::FCMP_OLE,
+          llvm::CmpInst::FCMP_OGT, llvm::CmpInst::FCMP_OGE,
+          llvm::CmpInst::FCMP_OEQ, llvm::CmpInst::FCMP_UNE};
+      r = boolean(b_.CreateFCmp(preds[n.sub], a, b));
+      break;
+    }
+    case OpCode::And:
+    case OpCode::Or: {
+      llvm::Value *ta = truth(a);
+      bool isAnd = n.op == OpCode::And;
+      r = boolean(isAnd ? b_.CreateAnd(ta, truth(b)) : b_.CreateOr(ta, truth(b)));
+      if (n.mayFail) // b's error matters only when a does not decide
+        err_[k] = b_.CreateOr(
+            error(n.a),
+            b_.CreateAnd(isAnd ? ta : b_.CreateNot(ta), error(n.b)));
+      break;
+    }
+    case OpCode::Not: r = boolean(b_.CreateFCmpOEQ(a, zero())); break;
+    default: assert(false && "leaf in computeNode");
+    }
+    val_[k] = r;
+    if (n.mayFail && !err_[k]) {
+      llvm::Value *e = check ? check : b_.getFalse();
+      for (unsigned i = 0; i < numOperands(n.op); ++i)
+        if (fn_.nodes[n.operand(i)].mayFail)
+          e = b_.CreateOr(e, error(n.operand(i)));
+      err_[k] = e;
+    }
+  }
+
+  llvm::Value *unary(FuncKind f, llvm::Value *a, llvm::Value *&check) {
+    using llvm::Intrinsic::ID;
+    switch (f) {
+    case FuncKind::Sin: return intrinsic(llvm::Intrinsic::sin, a);
+    case FuncKind::Cos: return intrinsic(llvm::Intrinsic::cos, a);
+    case FuncKind::Exp: return intrinsic(llvm::Intrinsic::exp, a);
+    case FuncKind::Log:
+    case FuncKind::Log10:
+      check = b_.CreateFCmpULE(a, zero()); // !(a > 0)
+      return intrinsic(f == FuncKind::Log ? llvm::Intrinsic::log
+                                          : llvm::Intrinsic::log10,
+                       a);
+    case FuncKind::Sqrt: return intrinsic(llvm::Intrinsic::sqrt, a);
+    case FuncKind::Abs: return intrinsic(llvm::Intrinsic::fabs, a);
+    case FuncKind::Floor: return intrinsic(llvm::Intrinsic::floor, a);
+    case FuncKind::Ceil: return intrinsic(llvm::Intrinsic::ceil, a);
+    case FuncKind::Sign:
+      return b_.CreateFSub(boolean(b_.CreateFCmpOGT(a, zero())),
+                           boolean(b_.CreateFCmpOLT(a, zero())));
+    case FuncKind::Asin:
+    case FuncKind::Acos:
+      check = b_.CreateFCmpOGT(intrinsic(llvm::Intrinsic::fabs, a), one());
+      return libm(libmName(f), {a});
+    default:
+      assert(libmName(f) && "unary built-in without lowering");
+      return libm(libmName(f), {a});
+    }
+  }
+
+  llvm::IRBuilder<> &b_;
+  llvm::Module &m_;
+  const PlanFunction &fn_;
+  const PlanChunk &chunk_;
+  Args args_;
+  llvm::Type *dbl_;
+  std::vector<llvm::Value *> val_, err_;
+};
+
+/// Emits one plan function with its exported C ABI signature.
+void emitFunction(llvm::Module &m, const CodePlan &plan,
+                  const PlanFunction &fn) {
+  llvm::LLVMContext &ctx = m.getContext();
+  llvm::IRBuilder<> b(ctx);
+  llvm::Type *dbl = b.getDoubleTy(), *ptr = b.getPtrTy(), *i32 = b.getInt32Ty();
+
+  // Exported signature per FnSig.
+  std::vector<llvm::Type *> params = {dbl, ptr, ptr, ptr};
+  if (fn.sig == FnSig::Jacobian)
+    params.push_back(dbl);
+  params.push_back(ptr);
+  if (fn.sig == FnSig::InitJacobian)
+    params.push_back(ptr);
+  auto *f = llvm::Function::Create(llvm::FunctionType::get(i32, params, false),
+                                   llvm::Function::ExternalLinkage,
+                                   functionSymbol(plan, fn), m);
+  f->addFnAttr(llvm::Attribute::NoUnwind);
+  for (unsigned i = 1; i <= 3; ++i) {
+    f->addParamAttr(i, llvm::Attribute::ReadOnly);
+    f->addParamAttr(i, llvm::Attribute::NoCapture);
+  }
+  ChunkEmitter::Args args{};
+  auto arg = [&](unsigned i) -> llvm::Value * { return f->getArg(i); };
+  args.t = arg(0);
+  args.y = arg(1);
+  args.yp = arg(2);
+  args.p = arg(3);
+  unsigned next = 4;
+  llvm::Value *nullPtr = llvm::ConstantPointerNull::get(b.getPtrTy());
+  args.cj = fn.sig == FnSig::Jacobian ? arg(next++)
+                                      : llvm::ConstantFP::get(dbl, 0.0);
+  args.out0 = arg(next++);
+  args.out1 = fn.sig == FnSig::InitJacobian ? arg(next++) : nullPtr;
+  for (unsigned i = 4; i < f->arg_size(); ++i)
+    if (f->getArg(i)->getType()->isPointerTy()) {
+      f->addParamAttr(i, llvm::Attribute::NoAlias);
+      f->addParamAttr(i, llvm::Attribute::NoCapture);
+    }
+
+  auto *entry = llvm::BasicBlock::Create(ctx, "entry", f);
+  b.SetInsertPoint(entry);
+  for (unsigned i = 0; i < 2; ++i)
+    if (fn.zeroFill[i])
+      b.CreateMemSet(i ? args.out1 : args.out0, b.getInt8(0),
+                     uint64_t(fn.zeroFill[i]) * 8, llvm::MaybeAlign(8));
+
+  if (fn.chunks.size() == 1) {
+    args.tmp = nullPtr;
+    b.CreateRet(ChunkEmitter(b, m, fn, fn.chunks[0], args).emit());
+    return;
+  }
+
+  // Scratch array for values crossing chunks.
+  uint64_t bytes = uint64_t(fn.numSpillSlots) * 8;
+  bool heap = bytes > kMaxStackScratch;
+  llvm::FunctionCallee mallocFn, freeFn;
+  llvm::Value *tmp;
+  if (heap) {
+    mallocFn = m.getOrInsertFunction("malloc", ptr, b.getInt64Ty());
+    freeFn = m.getOrInsertFunction("free", b.getVoidTy(), ptr);
+    tmp = b.CreateCall(mallocFn, {b.getInt64(bytes)});
+  } else {
+    tmp = b.CreateAlloca(dbl, b.getInt64(std::max<uint64_t>(1, fn.numSpillSlots)));
+  }
+  auto *chunkTy = llvm::FunctionType::get(
+      i32, {dbl, ptr, ptr, ptr, dbl, ptr, ptr, ptr}, false);
+  auto *done = llvm::BasicBlock::Create(ctx, "done", f);
+  llvm::IRBuilder<> db(done);
+  auto *rcPhi = db.CreatePHI(i32, fn.chunks.size());
+  if (heap)
+    db.CreateCall(freeFn, {tmp});
+  db.CreateRet(rcPhi);
+
+  for (size_t c = 0; c < fn.chunks.size(); ++c) {
+    auto *cf = llvm::Function::Create(
+        chunkTy, llvm::Function::InternalLinkage,
+        functionSymbol(plan, fn) + ".chunk" + std::to_string(c), m);
+    cf->addFnAttr(llvm::Attribute::NoInline);
+    cf->addFnAttr(llvm::Attribute::NoUnwind);
+    llvm::IRBuilder<> cb(llvm::BasicBlock::Create(ctx, "entry", cf));
+    ChunkEmitter::Args ca{cf->getArg(0), cf->getArg(1), cf->getArg(2),
+                          cf->getArg(3), cf->getArg(4), cf->getArg(5),
+                          cf->getArg(6), cf->getArg(7)};
+    cb.CreateRet(ChunkEmitter(cb, m, fn, fn.chunks[c], ca).emit());
+
+    llvm::Value *rc = b.CreateCall(
+        cf, {args.t, args.y, args.yp, args.p, args.cj, args.out0, args.out1, tmp});
+    if (c + 1 == fn.chunks.size()) {
+      rcPhi->addIncoming(rc, b.GetInsertBlock());
+      b.CreateBr(done);
+    } else {
+      auto *cont = llvm::BasicBlock::Create(ctx, "cont", f, done);
+      rcPhi->addIncoming(rc, b.GetInsertBlock());
+      b.CreateCondBr(b.CreateICmpEQ(rc, b.getInt32(0)), cont, done);
+      b.SetInsertPoint(cont);
+    }
+  }
+}
+
+void initializeLlvm() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    llvm::InitializeNativeTarget();
+    llvm::InitializeNativeTargetAsmPrinter();
+  });
+}
+
+Error toError(llvm::Error e) { return Error{llvm::toString(std::move(e))}; }
+
+/// Host target machine and its builder.
+Expected<std::unique_ptr<llvm::TargetMachine>>
+hostMachine(llvm::orc::JITTargetMachineBuilder &jtmb) {
+  jtmb.setCodeGenOptLevel(llvm::CodeGenOptLevel::Default);
+  auto tm = jtmb.createTargetMachine();
+  if (!tm)
+    return toError(tm.takeError());
+  return std::move(*tm);
+}
+
+class LljitCode : public JitCode {
+public:
+  std::unique_ptr<llvm::orc::LLJIT> jit;
+  std::vector<uintptr_t> addresses;
+  uintptr_t address(int i) const override { return addresses[i]; }
+};
+
+} // namespace
+
+JitCode::~JitCode() = default;
+
+std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
+                                         llvm::LLVMContext &ctx) {
+  auto m = std::make_unique<llvm::Module>(plan.symbolName, ctx);
+  for (const PlanFunction &fn : plan.functions)
+    emitFunction(*m, plan, fn);
+  assert(!llvm::verifyModule(*m, &llvm::errs()));
+  return m;
+}
+
+void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm) {
+  llvm::LoopAnalysisManager lam;
+  llvm::FunctionAnalysisManager fam;
+  llvm::CGSCCAnalysisManager cgam;
+  llvm::ModuleAnalysisManager mam;
+  llvm::PassBuilder pb(&tm);
+  pb.registerModuleAnalyses(mam);
+  pb.registerCGSCCAnalyses(cgam);
+  pb.registerFunctionAnalyses(fam);
+  pb.registerLoopAnalyses(lam);
+  pb.crossRegisterProxies(lam, fam, cgam, mam);
+  llvm::ModulePassManager mpm =
+      pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O2);
+  mpm.run(m, mam);
+}
+
+Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan) {
+  initializeLlvm();
+  auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
+  if (!jtmb)
+    return toError(jtmb.takeError());
+  auto tm = hostMachine(*jtmb);
+  if (!tm)
+    return Error{tm.error()};
+
+  auto ctx = std::make_unique<llvm::LLVMContext>();
+  std::unique_ptr<llvm::Module> m = emitModule(plan, *ctx);
+  m->setDataLayout((*tm)->createDataLayout());
+  m->setTargetTriple((*tm)->getTargetTriple().str());
+  optimizeModule(*m, **tm);
+
+  auto jit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
+  if (!jit)
+    return toError(jit.takeError());
+  llvm::orc::JITDylib &lib = (*jit)->getMainJITDylib();
+  // libm and libc (malloc/free) come from the running process.
+  auto gen = llvm::orc::DynamicLibrarySearchGenerator::GetForCurrentProcess(
+      (*jit)->getDataLayout().getGlobalPrefix());
+  if (!gen)
+    return toError(gen.takeError());
+  lib.addGenerator(std::move(*gen));
+  if (auto e = (*jit)->addIRModule(
+          llvm::orc::ThreadSafeModule(std::move(m), std::move(ctx))))
+    return toError(std::move(e));
+
+  auto code = std::make_unique<LljitCode>();
+  for (const PlanFunction &fn : plan.functions) {
+    auto addr = (*jit)->lookup(functionSymbol(plan, fn));
+    if (!addr)
+      return toError(addr.takeError());
+    code->addresses.push_back(addr->getValue());
+  }
+  code->jit = std::move(*jit);
+  return std::unique_ptr<JitCode>(std::move(code));
+}
+
+std::string printModule(const CodePlan &plan) {
+  initializeLlvm();
+  llvm::LLVMContext ctx;
+  std::unique_ptr<llvm::Module> m = emitModule(plan, ctx);
+  if (auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost()) {
+    if (auto tm = hostMachine(*jtmb)) {
+      m->setDataLayout((*tm)->createDataLayout());
+      m->setTargetTriple((*tm)->getTargetTriple().str());
+      optimizeModule(*m, **tm);
+    }
+  } else {
+    llvm::consumeError(jtmb.takeError());
+  }
+  std::string text;
+  llvm::raw_string_ostream os(text);
+  m->print(os, nullptr);
+  return text;
+}
+
+} // namespace ldae::codegen

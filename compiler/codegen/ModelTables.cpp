@@ -1,0 +1,93 @@
+// Filling the C ABI struct from a code plan; see ModelTables.h.
+#include "codegen/ModelTables.h"
+
+namespace ldae::codegen {
+
+const char *const *ModelTables::names(std::vector<std::string> strings) {
+  strings_.push_back(std::move(strings));
+  std::vector<const char *> ptrs;
+  for (const std::string &s : strings_.back())
+    ptrs.push_back(s.c_str());
+  ptrs.push_back(nullptr); // so an empty list is still a valid pointer
+  pointers_.push_back(std::move(ptrs));
+  return pointers_.back().data();
+}
+
+ModelTables::ModelTables(const CodePlan &plan) {
+  // Reserve so pointers into the vectors of vectors stay valid.
+  strings_.reserve(8);
+  pointers_.reserve(8);
+  ints_.reserve(3 * plan.stateSets.size() + 1);
+  name_ = plan.name;
+  startY_ = plan.startY;
+  startYp_ = plan.startYp;
+  nominal_ = plan.nominal;
+  params_ = plan.paramValues;
+  fixed_ = plan.fixed;
+
+  ldae_model &m = model_;
+  m.abi_version = LDAE_ABI_VERSION;
+  m.name = name_.c_str();
+  m.n = plan.n;
+  m.var_names = names(plan.varNames);
+  m.start_y = startY_.data();
+  m.start_yp = startYp_.data();
+  m.nominal = nominal_.data();
+  m.fixed = fixed_.data();
+  m.n_params = params_.size();
+  m.param_names = names(plan.paramNames);
+  m.param_values = params_.data();
+  m.n_init = plan.nInit;
+  m.n_roots = plan.nRoots;
+  m.n_outputs = plan.nOutputs;
+  m.output_names = names(plan.outputNames);
+  m.n_drift = plan.nDrift;
+  m.residual_origin =
+      plan.residualOrigin.empty() ? nullptr : names(plan.residualOrigin);
+  m.start_time = plan.startTime;
+  m.stop_time = plan.stopTime;
+  m.tolerance = plan.tolerance;
+  m.interval = plan.interval;
+
+  descriptions_.reserve(plan.stateSets.size());
+  for (const StateSetPlan &sp : plan.stateSets) {
+    ldae_state_set s{};
+    ints_.push_back(sp.isDifferential);
+    s.is_differential = ints_.back().data();
+    ints_.push_back(sp.colptr);
+    s.jac_colptr = ints_.back().data();
+    ints_.push_back(sp.rowind);
+    ints_.back().push_back(0); // non-null even when empty
+    s.jac_rowind = ints_.back().data();
+    s.jac_nnz = sp.rowind.size();
+    s.pivot_size = sp.pivotSize;
+    descriptions_.push_back(sp.description);
+    s.description = descriptions_.back().c_str();
+    sets_.push_back(s);
+  }
+  m.n_state_sets = sets_.size();
+  m.state_sets = sets_.data();
+}
+
+void ModelTables::setFunctions(const CodePlan &plan,
+                               const std::function<uintptr_t(int)> &address) {
+  auto fn = [&](int index, auto &slot) {
+    slot = index < 0 ? nullptr
+                     : reinterpret_cast<std::remove_reference_t<decltype(slot)>>(
+                           address(index));
+  };
+  for (size_t i = 0; i < sets_.size(); ++i) {
+    const StateSetPlan &sp = plan.stateSets[i];
+    fn(sp.residual, sets_[i].residual);
+    fn(sp.jacobianDense, sets_[i].jacobian_dense);
+    fn(sp.jacobianCsc, sets_[i].jacobian_csc);
+    fn(sp.pivot, sets_[i].pivot);
+  }
+  fn(plan.initResidual, model_.init_residual);
+  fn(plan.initJacobian, model_.init_jacobian);
+  fn(plan.roots, model_.roots);
+  fn(plan.outputs, model_.outputs);
+  fn(plan.drift, model_.drift);
+}
+
+} // namespace ldae::codegen

@@ -1,0 +1,267 @@
+// Hand-built DaeSystems; see SampleSystems.h.
+#include "codegen/SampleSystems.h"
+
+#include <cmath>
+
+namespace ldae::codegen::samples {
+
+using ir::ExprRef;
+using ir::FuncKind;
+using ir::VarKey;
+
+namespace {
+
+/// Declares variables/parameters on a fresh Model and fills the system.
+class Builder {
+public:
+  explicit Builder(const std::string &name) : s_{std::make_unique<ir::Model>(), {}} {
+    s_.model->name = name;
+    s_.sys.ctx = s_.model->sharedCtx();
+    s_.sys.model = s_.model.get();
+  }
+  ir::ExprContext &c() { return s_.model->ctx(); }
+
+  /// A model variable (not yet an unknown).
+  ir::VarId variable(const std::string &name) {
+    ir::Variable v;
+    v.name = name;
+    return s_.model->addVariable(v);
+  }
+  ExprRef param(const std::string &name, double value) {
+    ir::Parameter p;
+    p.name = name;
+    p.value = value;
+    ir::ParamId id = s_.model->addParameter(p);
+    s_.sys.parameterNames.push_back(name);
+    s_.sys.parameterValues.push_back(value);
+    return c().param(id);
+  }
+  /// Appends an unknown slot holding Variable(key).
+  void unknown(VarKey key, bool differential, double start,
+               double startDerivative = 0) {
+    ir::SystemUnknown u;
+    u.key = key;
+    u.name = s_.model->variableName(key);
+    u.differential = differential;
+    u.start = start;
+    u.startDerivative = startDerivative;
+    s_.sys.unknowns.push_back(u);
+  }
+  /// A variable that is also the next unknown slot; returns Variable(v).
+  ExprRef state(const std::string &name, bool differential, double start,
+                double startDerivative = 0) {
+    ir::VarId v = variable(name);
+    unknown({v, 0}, differential, start, startDerivative);
+    return c().var(v);
+  }
+  ExprRef der(ExprRef v) { return c().var(v->var(), v->order() + 1); }
+  void output(const std::string &name, ExprRef value) {
+    s_.sys.outputs.push_back({name, value});
+  }
+  /// One state set with the unknowns' own differential flags.
+  ir::StateSet &singleSet(std::vector<ExprRef> residuals) {
+    ir::StateSet set;
+    set.residuals = std::move(residuals);
+    for (const ir::SystemUnknown &u : s_.sys.unknowns) {
+      set.differential.push_back(u.differential);
+      if (u.differential)
+        set.states.push_back(u.name);
+    }
+    s_.sys.stateSets.push_back(std::move(set));
+    return s_.sys.stateSets.back();
+  }
+  SampleSystem take() { return std::move(s_); }
+  ir::Model &model() { return *s_.model; }
+  ir::DaeSystem &sys() { return s_.sys; }
+
+private:
+  SampleSystem s_;
+};
+
+} // namespace
+
+SampleSystem robertson() {
+  Builder b("robertson");
+  auto &c = b.c();
+  ExprRef k1 = b.param("k1", 0.04), k2 = b.param("k2", 3e7),
+          k3 = b.param("k3", 1e4);
+  ExprRef y1 = b.state("y1", true, 1, -0.04), y2 = b.state("y2", true, 0, 0.04),
+          y3 = b.state("y3", false, 0);
+  ExprRef y2y3 = c.mul(k3, c.mul(y2, y3));
+  ExprRef sum = c.sub(c.add(c.add(y1, y2), y3), c.one());
+  b.singleSet({c.sub(b.der(y1), c.add(c.mul(c.neg(k1), y1), y2y3)),
+               c.sub(b.der(y2), c.sub(c.sub(c.mul(k1, y1), y2y3),
+                                      c.mul(k2, c.pow(y2, c.constant(2))))),
+               sum});
+  b.sys().initialResiduals = {c.sub(y1, c.one())};
+  b.sys().roots = {c.sub(y1, c.constant(0.5))};
+  b.sys().constraints = {sum};
+  b.output("y1", y1);
+  b.output("y2", y2);
+  b.output("y3", y3);
+  b.output("der(y1)", b.der(y1));
+  b.model().experiment.stopTime = 0.4;
+  b.model().experiment.interval = 0.04;
+  return b.take();
+}
+
+SampleSystem pendulum() {
+  Builder b("pendulum");
+  auto &c = b.c();
+  ExprRef g = b.param("g", 9.81), L = b.param("L", 1.0);
+  ExprRef x = b.state("x", true, 0.6), y = b.state("y", false, -0.8),
+          vx = b.state("vx", true, 0), vy = b.state("vy", false, 0),
+          lam = b.state("lambda", false, 0.8 * 9.81);
+  // Dummy derivatives of set A: der(y), der(vy).
+  b.unknown({y->var(), 1}, false, 0);
+  b.unknown({vy->var(), 1}, false, -9.81);
+  ExprRef two = c.constant(2);
+  std::vector<ExprRef> res = {
+      c.sub(b.der(x), vx),
+      c.sub(b.der(y), vy),
+      c.add(b.der(vx), c.mul(lam, x)),
+      c.add(c.add(b.der(vy), c.mul(lam, y)), g),
+      c.sub(c.add(c.pow(x, two), c.pow(y, two)), c.pow(L, two)),
+      c.add(c.mul(x, vx), c.mul(y, vy)),
+      c.add(c.add(c.pow(vx, two), c.pow(vy, two)),
+            c.add(c.mul(x, b.der(vx)), c.mul(y, b.der(vy))))};
+  ir::StateSet &a = b.singleSet(res);
+  a.pivotSize = 1;
+  a.pivot = {c.mul(two, y)};
+  ir::StateSet setB;
+  setB.residuals = res;
+  setB.differential = {false, true, false, true, false, false, false};
+  setB.keys = {x->varKey(), y->varKey(), vx->varKey(), vy->varKey(),
+               lam->varKey(), VarKey{x->var(), 1}, VarKey{vx->var(), 1}};
+  setB.states = {"y", "vy"};
+  setB.pivotSize = 1;
+  setB.pivot = {c.mul(two, x)};
+  b.sys().stateSets.push_back(setB);
+  b.sys().constraints = {res[4], res[5]};
+  b.output("x", x);
+  b.output("y", y);
+  b.output("energy",
+           c.add(c.mul(c.constant(0.5), c.add(c.pow(vx, two), c.pow(vy, two))),
+                 c.mul(g, y)));
+  b.output("lambda", lam);
+  return b.take();
+}
+
+SampleSystem chain(unsigned n) {
+  Builder b("chain" + std::to_string(n));
+  auto &c = b.c();
+  ExprRef k = b.param("k", 1.5), a = b.param("a", 0.1);
+  std::vector<ExprRef> x;
+  for (unsigned i = 0; i < n; ++i)
+    x.push_back(b.state("x[" + std::to_string(i + 1) + "]", true,
+                        std::sin(double(i))));
+  std::vector<ExprRef> res;
+  for (unsigned i = 0; i < n; ++i) {
+    ExprRef lap = c.mul(c.constant(-2), x[i]);
+    if (i > 0)
+      lap = c.add(lap, x[i - 1]);
+    if (i + 1 < n)
+      lap = c.add(lap, x[i + 1]);
+    ExprRef rhs = c.sub(c.mul(k, lap), c.mul(a, c.pow(x[i], c.constant(3))));
+    if (i == 0)
+      rhs = c.add(rhs, c.call(FuncKind::Sin, c.time()));
+    res.push_back(c.sub(b.der(x[i]), rhs));
+  }
+  b.singleSet(res);
+  b.output(b.sys().unknowns.front().name, x.front());
+  b.output(b.sys().unknowns.back().name, x.back());
+  return b.take();
+}
+
+SampleSystem builtins() {
+  Builder b("builtins");
+  auto &c = b.c();
+  ExprRef u = b.state("u", true, 0.3), v = b.state("v", true, 0.6);
+  ExprRef p = b.param("p", 1.25);
+  using ir::CompareKind;
+  auto k = [&](double x) { return c.constant(x); };
+  auto call = [&](FuncKind f, ExprRef a) { return c.call(f, a); };
+  std::vector<std::pair<std::string, ExprRef>> fs = {
+      {"sin", call(FuncKind::Sin, u)},
+      {"cos", call(FuncKind::Cos, u)},
+      {"tan", call(FuncKind::Tan, u)},
+      {"asin", call(FuncKind::Asin, u)},
+      {"acos", call(FuncKind::Acos, u)},
+      {"atan", call(FuncKind::Atan, u)},
+      {"atan2", c.call(FuncKind::Atan2, u, v)},
+      {"sinh", call(FuncKind::Sinh, u)},
+      {"cosh", call(FuncKind::Cosh, u)},
+      {"tanh", call(FuncKind::Tanh, u)},
+      {"exp", call(FuncKind::Exp, u)},
+      {"log", call(FuncKind::Log, u)},
+      {"log10", call(FuncKind::Log10, v)},
+      {"sqrt", call(FuncKind::Sqrt, u)},
+      {"abs", call(FuncKind::Abs, c.sub(u, v))},
+      {"sign", c.mul(call(FuncKind::Sign, c.sub(u, v)), v)},
+      {"min", c.call(FuncKind::Min, u, v)},
+      {"max", c.call(FuncKind::Max, u, v)},
+      {"floor", c.mul(call(FuncKind::Floor, c.mul(k(4), u)), v)},
+      {"ceil", c.mul(call(FuncKind::Ceil, c.mul(k(4), u)), v)},
+      {"mod", c.call(FuncKind::Mod, c.mul(k(5), u), v)},
+      {"pow", c.pow(u, v)},
+      {"cube", c.pow(u, k(3))},
+      {"pow7", c.pow(c.add(u, v), k(7))},
+      {"inverse_square", c.pow(v, k(-2))},
+      {"pow_half", c.pow(c.add(u, v), k(0.5))},
+      {"pow_param", c.pow(v, p)},
+      {"quotient", c.div(c.sub(u, k(1)), c.add(v, u))},
+      {"if", c.ifThenElse(c.compare(CompareKind::Gt, u, v), c.mul(u, v),
+                          c.sub(u, v))},
+      {"and", c.ifThenElse(c.logicalAnd(c.compare(CompareKind::Le, u, v),
+                                        c.compare(CompareKind::Ge, v, k(0.1))),
+                           c.mul(u, u), v)},
+      {"or", c.ifThenElse(c.logicalOr(c.compare(CompareKind::Lt, u, k(0)),
+                                      c.compare(CompareKind::Eq, u, v)),
+                          u, c.mul(k(2), v))},
+      {"not", c.ifThenElse(c.logicalNot(c.compare(CompareKind::Ne, u, v)),
+                           k(3), c.mul(u, k(4)))},
+      {"time", c.mul(call(FuncKind::Sin, c.time()), u)},
+  };
+  std::vector<ExprRef> zs;
+  for (auto &[name, f] : fs)
+    zs.push_back(b.state("z_" + name, false, 0));
+  std::vector<ExprRef> res = {c.sub(b.der(u), v), c.add(b.der(v), u)};
+  for (size_t i = 0; i < fs.size(); ++i) {
+    res.push_back(c.sub(zs[i], fs[i].second));
+    b.output(fs[i].first, fs[i].second);
+  }
+  b.singleSet(res);
+  return b.take();
+}
+
+SampleSystem domainErrors() {
+  Builder b("domain");
+  auto &c = b.c();
+  using ir::CompareKind;
+  auto k = [&](double x) { return c.constant(x); };
+  ExprRef x = b.state("x", false, 2);
+  std::vector<ExprRef> rhs = {
+      c.ifThenElse(
+          c.logicalAnd(c.compare(CompareKind::Gt, x, k(100)),
+                       c.compare(CompareKind::Gt,
+                                 c.call(FuncKind::Log, c.sub(x, k(200))), k(0))),
+          k(1), k(0)),
+      c.call(FuncKind::Log, x),
+      c.call(FuncKind::Sqrt, c.sub(x, k(1))),
+      c.div(k(1), c.sub(x, k(3))),
+      c.ifThenElse(c.compare(CompareKind::Gt, x, k(0)),
+                   c.call(FuncKind::Log, x), k(0)),
+      c.call(FuncKind::Asin, c.div(c.sub(x, k(4)), k(4))),
+      c.call(FuncKind::Mod, x, c.sub(x, k(5))),
+      c.ifThenElse(c.compare(CompareKind::Lt, x, k(5.8)), k(1),
+                   c.pow(c.sub(x, k(6.2)), k(1.5))),
+  };
+  const char *names[] = {"h", "a", "b", "c", "d", "e", "f", "g"};
+  std::vector<ExprRef> res = {c.sub(x, k(2))};
+  for (size_t i = 0; i < rhs.size(); ++i)
+    res.push_back(c.sub(b.state(names[i], false, 0), rhs[i]));
+  b.singleSet(res);
+  return b.take();
+}
+
+} // namespace ldae::codegen::samples

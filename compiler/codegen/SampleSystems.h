@@ -1,0 +1,38 @@
+// Hand-built DaeSystems exercising code generation: used by the codegen unit
+// tests and bench/codegen_bench.cpp (independent of the frontend and the
+// structural passes).
+#pragma once
+
+#include "ir/DaeSystem.h"
+
+#include <memory>
+
+namespace ldae::codegen::samples {
+
+/// A DaeSystem with the Model it points to.
+struct SampleSystem {
+  std::unique_ptr<ir::Model> model;
+  ir::DaeSystem sys;
+};
+
+/// Robertson's index-1 kinetics: y1, y2 differential, y3 algebraic;
+/// one initial residual, one root, one drift constraint, four outputs.
+SampleSystem robertson();
+
+/// The pendulum reduced by hand to index 1 with dummy derivatives, two
+/// state sets: {x, vx} (dummies der(y), der(vy)) and {y, vy} (dummies
+/// der(x), der(vx)); 1x1 pivots y and x.
+SampleSystem pendulum();
+
+/// n coupled nonlinear oscillators:
+/// der(x[i]) = k*(x[i-1] - 2*x[i] + x[i+1]) - a*x[i]^3 (+ sin(t) at i = 0).
+SampleSystem chain(unsigned n);
+
+/// Every built-in of the language applied to unknowns u, v (differential)
+/// in residuals z[i] - f_i(u, v) and in outputs.
+SampleSystem builtins();
+
+/// Residuals with domain errors at chosen points (see the test).
+SampleSystem domainErrors();
+
+} // namespace ldae::codegen::samples

@@ -1,0 +1,204 @@
+// Helpers of the codegen tests; see TestUtil.h.
+#include "TestUtil.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <dlfcn.h>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <random>
+#include <sstream>
+
+namespace ldae::codegen::testing {
+
+Evaluation evaluateAll(const ldae_model &m, const Point &pt) {
+  Evaluation ev;
+  const double *y = pt.y.data(), *yp = pt.yp.data(), *p = pt.p.data();
+  auto add = [&](std::string label, size_t size, auto call) {
+    std::vector<double> out(size + 1, -12345.0);
+    ev.codes.push_back(call(out.data()));
+    out.pop_back();
+    ev.labels.push_back(std::move(label));
+    ev.arrays.push_back(std::move(out));
+  };
+  for (int s = 0; s < m.n_state_sets; ++s) {
+    const ldae_state_set &set = m.state_sets[s];
+    std::string tag = std::to_string(s);
+    add("residual " + tag, m.n,
+        [&](double *o) { return set.residual(pt.t, y, yp, p, o); });
+    add("jac_csc " + tag, set.jac_nnz, [&](double *o) {
+      return set.jacobian_csc(pt.t, y, yp, p, pt.cj, o);
+    });
+    if (set.jacobian_dense)
+      add("jac_dense " + tag, size_t(m.n) * m.n, [&](double *o) {
+        return set.jacobian_dense(pt.t, y, yp, p, pt.cj, o);
+      });
+    if (set.pivot)
+      add("pivot " + tag, size_t(set.pivot_size) * set.pivot_size,
+          [&](double *o) { return set.pivot(pt.t, y, yp, p, o); });
+  }
+  add("init_residual", m.n_init,
+      [&](double *o) { return m.init_residual(pt.t, y, yp, p, o); });
+  size_t nj = size_t(m.n_init) * m.n;
+  add("init_jacobian", 2 * nj, [&](double *o) {
+    return m.init_jacobian(pt.t, y, yp, p, o, o + nj);
+  });
+  add("roots", m.n_roots, [&](double *o) { return m.roots(pt.t, y, yp, p, o); });
+  add("outputs", m.n_outputs,
+      [&](double *o) { return m.outputs(pt.t, y, yp, p, o); });
+  add("drift", m.n_drift, [&](double *o) { return m.drift(pt.t, y, yp, p, o); });
+  return ev;
+}
+
+std::string compareEvaluations(const Evaluation &a, const Evaluation &b,
+                               double rel) {
+  if (a.labels != b.labels)
+    return "different function lists";
+  std::ostringstream os;
+  os.precision(17);
+  for (size_t i = 0; i < a.arrays.size(); ++i) {
+    if (a.codes[i] != b.codes[i]) {
+      os << a.labels[i] << ": return code " << a.codes[i] << " vs "
+         << b.codes[i];
+      return os.str();
+    }
+    if (a.codes[i] != 0)
+      continue; // outputs are unspecified after an error
+    for (size_t k = 0; k < a.arrays[i].size(); ++k) {
+      double x = a.arrays[i][k], y = b.arrays[i][k];
+      if (!(std::fabs(x - y) <= rel * std::max(std::fabs(x), std::fabs(y)))) {
+        os << a.labels[i] << "[" << k << "]: " << x << " vs " << y;
+        return os.str();
+      }
+    }
+  }
+  return "";
+}
+
+std::string compareMetadata(const ldae_model &a, const ldae_model &b) {
+  std::ostringstream os;
+  auto check = [&](bool ok, const char *what) {
+    if (!ok && os.str().empty())
+      os << "metadata differs: " << what;
+  };
+  check(a.abi_version == b.abi_version, "abi_version");
+  check(std::string(a.name) == b.name, "name");
+  check(a.n == b.n && a.n_params == b.n_params &&
+            a.n_state_sets == b.n_state_sets && a.n_init == b.n_init &&
+            a.n_roots == b.n_roots && a.n_outputs == b.n_outputs &&
+            a.n_drift == b.n_drift,
+        "sizes");
+  if (!os.str().empty())
+    return os.str();
+  for (int i = 0; i < a.n; ++i) {
+    check(std::string(a.var_names[i]) == b.var_names[i], "var_names");
+    check(a.start_y[i] == b.start_y[i] && a.start_yp[i] == b.start_yp[i] &&
+              a.nominal[i] == b.nominal[i] && a.fixed[i] == b.fixed[i],
+          "start values");
+  }
+  for (int i = 0; i < a.n_params; ++i)
+    check(std::string(a.param_names[i]) == b.param_names[i] &&
+              a.param_values[i] == b.param_values[i],
+          "parameters");
+  for (int i = 0; i < a.n_outputs; ++i)
+    check(std::string(a.output_names[i]) == b.output_names[i], "outputs");
+  for (int s = 0; s < a.n_state_sets; ++s) {
+    const ldae_state_set &x = a.state_sets[s], &y = b.state_sets[s];
+    check(x.jac_nnz == y.jac_nnz && x.pivot_size == y.pivot_size &&
+              std::string(x.description) == y.description &&
+              !x.jacobian_dense == !y.jacobian_dense,
+          "state set");
+    if (!os.str().empty())
+      break;
+    for (int i = 0; i < a.n; ++i)
+      check(x.is_differential[i] == y.is_differential[i], "is_differential");
+    for (int i = 0; i <= a.n; ++i)
+      check(x.jac_colptr[i] == y.jac_colptr[i], "colptr");
+    for (int i = 0; i < x.jac_nnz; ++i)
+      check(x.jac_rowind[i] == y.jac_rowind[i], "rowind");
+  }
+  auto same = [](double u, double v) {
+    return u == v || (std::isnan(u) && std::isnan(v));
+  };
+  check(same(a.start_time, b.start_time) && same(a.stop_time, b.stop_time) &&
+            same(a.tolerance, b.tolerance) && same(a.interval, b.interval),
+        "experiment");
+  return os.str();
+}
+
+Point randomPoint(const ldae_model &m, unsigned seed, double lo, double hi) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> d(lo, hi);
+  Point pt;
+  pt.t = d(rng);
+  pt.cj = std::uniform_real_distribution<double>(0.5, 50)(rng);
+  for (int i = 0; i < m.n; ++i) {
+    pt.y.push_back(d(rng));
+    pt.yp.push_back(d(rng));
+  }
+  pt.p.assign(m.param_values, m.param_values + m.n_params);
+  return pt;
+}
+
+int run(const std::string &command) {
+  int status = std::system(command.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string makeTempDir(const std::string &stem) {
+  static int counter = 0;
+  std::filesystem::path dir =
+      std::filesystem::path(::testing::TempDir()) /
+      ("ldae_cg_" + stem + "_" + std::to_string(getpid()) + "_" +
+       std::to_string(counter++));
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+CLibrary::CLibrary(const ir::DaeSystem &sys, const CodegenOptions &opts) {
+  auto text = emitC(sys, false, opts);
+  if (!text) {
+    error_ = text.error();
+    return;
+  }
+  std::string dir = makeTempDir("lib");
+  std::ofstream(dir + "/model.c") << *text;
+  std::string cmd = "cc -std=c99 -O2 -Wall -Werror -shared -fPIC -o " + dir +
+                    "/model.so " + dir + "/model.c -lm 2> " + dir + "/cc.log";
+  if (run(cmd) != 0) {
+    std::ifstream log(dir + "/cc.log");
+    error_ = "cc failed: " + std::string(std::istreambuf_iterator<char>(log), {})
+                                 .substr(0, 2000);
+    return;
+  }
+  handle_ = dlopen((dir + "/model.so").c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle_) {
+    error_ = dlerror();
+    return;
+  }
+  using GetModel = const ldae_model *(*)();
+  auto get = reinterpret_cast<GetModel>(dlsym(handle_, "ldae_get_model"));
+  if (!get) {
+    error_ = "no ldae_get_model";
+    return;
+  }
+  model_ = get();
+}
+
+CLibrary::~CLibrary() {
+  if (handle_)
+    dlclose(handle_);
+}
+
+std::unique_ptr<CompiledModel> compileOrDie(const ir::DaeSystem &sys,
+                                            const CodegenOptions &opts) {
+  auto m = compile(sys, opts);
+  if (!m) {
+    ADD_FAILURE() << "compile failed: " << m.error();
+    return nullptr;
+  }
+  return std::move(*m);
+}
+
+} // namespace ldae::codegen::testing
