@@ -106,10 +106,27 @@ ExprRef ExprContext::intern(ExprKind kind, uint8_t sub, uint32_t index,
   h ^= h >> 33;
   probe.hash_ = h;
 
-  if (ExprRef found = impl_->table.find(probe))
-    return found;
-
+  // Where the node is uniqued: a node with operands lives in the short user
+  // list of its newest operand (the pivot) while that list is short, and in
+  // the global table after. Building a DAG mostly combines recent nodes, so
+  // the lists it searches are hot in cache while the table is not.
   Impl &im = *impl_;
+  ExprRef pivot = nullptr;
+  for (ExprRef op : ops)
+    if (!pivot || op->id() > pivot->id())
+      pivot = op;
+  bool local = false;
+  if (pivot) {
+    uint32_t p = pivot->id();
+    for (ExprRef u = im.firstUser[p]; u; u = im.nextUser[u->id()])
+      if (u->hash() == h && NodeEqual()(u, &probe))
+        return u;
+    local = im.userCount[p] < kLocalUsers;
+  }
+  if (!local)
+    if (ExprRef found = im.table.find(probe))
+      return found;
+
   auto *node = new (im.arena.allocate(sizeof(Expr), alignof(Expr))) Expr();
   *node = probe;
   if (!ops.empty()) {
@@ -122,7 +139,17 @@ ExprRef ExprContext::intern(ExprKind kind, uint8_t sub, uint32_t index,
   node->id_ = static_cast<uint32_t>(im.nodes.size());
   im.nodes.push_back(node);
   im.total.push_back(computeTotal(node, im.total));
-  im.table.insert(node);
+  im.firstUser.push_back(nullptr);
+  im.nextUser.push_back(nullptr);
+  im.userCount.push_back(0);
+  if (local) {
+    uint32_t p = pivot->id();
+    im.nextUser.back() = im.firstUser[p];
+    im.firstUser[p] = node;
+    ++im.userCount[p];
+  } else {
+    im.table.insert(node);
+  }
   return node;
 }
 
@@ -171,7 +198,11 @@ bool ExprContext::isTotal(ExprRef e) const { return impl_->total[e->id()]; }
 size_t ExprContext::size() const { return impl_->nodes.size(); }
 
 size_t ExprContext::memoryBytes() const {
-  return impl_->arena.bytes() + impl_->table.bytes();
+  const Impl &im = *impl_;
+  return im.arena.bytes() + im.table.bytes() +
+         im.nodes.capacity() * sizeof(ExprRef) + im.total.capacity() +
+         (im.firstUser.capacity() + im.nextUser.capacity()) * sizeof(ExprRef) +
+         im.userCount.capacity();
 }
 
 } // namespace ldae::ir

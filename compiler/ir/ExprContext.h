@@ -57,7 +57,8 @@ public:
 
   /// Number of distinct nodes created so far.
   size_t size() const;
-  /// Bytes held by the node arena and the uniquing table (for benchmarks).
+  /// Bytes held by the nodes, their operands and the uniquing structures
+  /// (for benchmarks).
   size_t memoryBytes() const;
 
   /// True if `e` is finite and free of domain errors for every finite value

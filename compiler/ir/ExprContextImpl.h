@@ -19,6 +19,10 @@ namespace ldae::ir {
 /// linear in size (see docs/ir.md).
 constexpr unsigned kFlattenLimit = 8;
 
+/// Users a node keeps in its own list before further users with it as
+/// pivot go to the global uniquing table (ExprContext::intern).
+constexpr unsigned kLocalUsers = 8;
+
 /// True for finite integral doubles that are exact as integers.
 inline bool isIntegral(double v) {
   return std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 9.0e15;
@@ -172,6 +176,10 @@ struct ExprContext::Impl {
   NodeTable table;
   std::vector<ExprRef> nodes;     // by id
   std::vector<uint8_t> total;     // by id: ExprContext::isTotal
+  // By id: the user list of a node as pivot (see intern): its newest user,
+  // the next older user with the same pivot, and the list's length.
+  std::vector<ExprRef> firstUser, nextUser;
+  std::vector<uint8_t> userCount;
   ExprRef time = nullptr;
   ExprRef zero = nullptr, one = nullptr, minusOne = nullptr;
 };

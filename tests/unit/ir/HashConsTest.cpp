@@ -4,6 +4,7 @@
 #include "ir/Print.h"
 
 #include <gtest/gtest.h>
+#include <vector>
 
 using namespace ldae::ir;
 
@@ -43,6 +44,27 @@ TEST(HashCons, CommutativeOperandsInAnyOrder) {
                   c.mul(c.constant(0.3), x)};
   ExprRef t2[] = {t1[2], t1[0], t1[1]};
   EXPECT_EQ(c.add(t1), c.add(t2));
+}
+
+TEST(HashCons, PopularOperandsStayUnique) {
+  // A node used by many others: its first users are uniqued in its own
+  // list, the rest in the global table; both must find them again.
+  ExprContext c;
+  std::vector<ExprRef> vars;
+  for (unsigned i = 0; i < 200; ++i)
+    vars.push_back(c.var(i));
+  ExprRef hub = c.call(FuncKind::Sin, vars[0]); // newest: the pivot below
+  std::vector<ExprRef> first;
+  for (ExprRef v : vars) {
+    first.push_back(c.mul(hub, v));
+    first.push_back(c.call(FuncKind::Atan2, v, hub));
+  }
+  size_t nodes = c.size();
+  for (size_t i = 0; i < vars.size(); ++i) {
+    EXPECT_EQ(c.mul(vars[i], hub), first[2 * i]);
+    EXPECT_EQ(c.call(FuncKind::Atan2, vars[i], hub), first[2 * i + 1]);
+  }
+  EXPECT_EQ(c.size(), nodes);
 }
 
 TEST(HashCons, CanonicalOrderHasConstantFirst) {
