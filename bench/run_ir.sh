@@ -42,7 +42,7 @@ Times are CPU seconds of the benchmark thread, the fastest of five runs.
 """ + "".join(f"| {n} time (s) | {a:.3f} | {b:.3f} | {r:.1f}x |\n" for n, a, b, r in rows) + \
 f"""| nodes made by d/dt | {int(s['ddt_nodes'])} | {int(l['ddt_nodes'])} | {l['ddt_nodes']/s['ddt_nodes']:.1f}x |
 | nodes made by partial | {int(s['partial_nodes'])} | {int(l['partial_nodes'])} | {l['partial_nodes']/s['partial_nodes']:.1f}x |
-| node arena (MiB) | {s['arena_MiB']:.1f} | {l['arena_MiB']:.1f} | {l['arena_MiB']/s['arena_MiB']:.1f}x |
+| context memory (MiB) | {s['arena_MiB']:.1f} | {l['arena_MiB']:.1f} | {l['arena_MiB']/s['arena_MiB']:.1f}x |
 | max RSS (MiB) | {s['maxrss_MiB']:.1f} | {l['maxrss_MiB']:.1f} | {l['maxrss_MiB']/s['maxrss_MiB']:.1f}x |
 
 Linearity ({node_ratio:.1f}x the nodes may take at most {12*node_ratio/10:.1f}x the time): **{"pass" if ok else "FAIL"}**.

@@ -5,7 +5,6 @@
 #include "ir/Differentiate.h"
 #include "Traverse.h"
 
-#include <algorithm>
 #include <cassert>
 #include <cmath>
 
@@ -155,28 +154,22 @@ template <typename D> ExprRef chainRule(ExprContext &ctx, ExprRef e, D &&d) {
 
 /// Differentiates every node below `e` missing from `cache`, operands first.
 template <typename Leaf>
-ExprRef differentiate(ExprContext &ctx, ExprRef e, std::vector<ExprRef> &cache,
+ExprRef differentiate(ExprContext &ctx, ExprRef e, NodeMap<ExprRef> &cache,
                       Leaf &&leaf) {
-  auto cached = [&](ExprRef n) {
-    return n->id() < cache.size() ? cache[n->id()] : nullptr;
-  };
-  if (ExprRef known = cached(e))
-    return known;
+  if (ExprRef *known = cache.find(e))
+    return *known;
   auto d = [&](ExprRef op) {
-    assert(cached(op) && "operands are differentiated first");
-    return cache[op->id()];
+    ExprRef *dop = cache.find(op);
+    assert(dop && "operands are differentiated first");
+    return *dop;
   };
   ExprRef roots[] = {e};
   postOrder(
-      roots, [&](ExprRef n) { return cached(n) != nullptr; },
+      roots, [&](ExprRef n) { return cache.contains(n); },
       [&](ExprRef n) {
-        ExprRef dn = n->numOperands() == 0 ? leaf(n) : chainRule(ctx, n, d);
-        // Ids of nodes made meanwhile are larger: size for all of them.
-        if (cache.size() < ctx.size())
-          cache.resize(std::max(ctx.size(), 2 * cache.size()), nullptr);
-        cache[n->id()] = dn;
+        cache.insert(n, n->numOperands() == 0 ? leaf(n) : chainRule(ctx, n, d));
       });
-  return cache[e->id()];
+  return *cache.find(e);
 }
 
 } // namespace

@@ -7,8 +7,8 @@
 #pragma once
 
 #include "ir/ExprContext.h"
+#include "ir/NodeMap.h"
 
-#include <vector>
 
 namespace ldae::ir {
 
@@ -26,10 +26,8 @@ public:
 private:
   ExprContext &ctx_;
   VarKey cachedKey_{~0u, ~0u};
-  // Derivatives by node id (null: not computed yet): dense, since a
-  // derivative visits most of a DAG's nodes.
-  std::vector<ExprRef> partialCache_; // for cachedKey_
-  std::vector<ExprRef> timeCache_;
+  NodeMap<ExprRef> partialCache_; // for cachedKey_
+  NodeMap<ExprRef> timeCache_;
 };
 
 } // namespace ldae::ir

@@ -4,11 +4,11 @@
 // chosen branch of `if` (and short-circuits `and`/`or`), and turns every
 // domain error into an Error naming the failing subexpression.
 #include "ir/Evaluate.h"
+#include "ir/NodeMap.h"
 #include "ir/Print.h"
 
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 #include <vector>
 
 namespace ldae::ir {
@@ -80,14 +80,14 @@ public:
     while (!stack_.empty()) {
       size_t top = stack_.size() - 1;
       ExprRef e = stack_[top].node;
-      if (memo_.count(e)) {
+      if (memo_.contains(e)) {
         stack_.pop_back();
         continue;
       }
       if (!step(top))
         return Error{error_};
     }
-    return memo_.at(root);
+    return *memo_.find(root);
   }
 
 private:
@@ -98,16 +98,16 @@ private:
   const EvalEnv &env_;
   const NameResolver *names_;
   std::vector<Frame> stack_;
-  std::unordered_map<ExprRef, double> memo_;
+  NodeMap<double> memo_;
   std::string error_;
 
   void push(ExprRef e) {
-    if (!memo_.count(e))
+    if (!memo_.contains(e))
       stack_.push_back({e, 0});
   }
-  double value(ExprRef e) const { return memo_.at(e); }
+  double value(ExprRef e) const { return *memo_.find(e); }
   void done(ExprRef e, double v) {
-    memo_.emplace(e, v);
+    memo_.insert(e, v);
     stack_.pop_back();
   }
   bool fail(ExprRef e, const std::string &what) {

@@ -44,18 +44,18 @@ void Substitution::set(ExprRef from, ExprRef to) {
 }
 
 ExprRef Substitution::apply(ExprRef e) {
-  if (auto it = memo_.find(e); it != memo_.end())
-    return it->second;
+  if (ExprRef *known = memo_.find(e))
+    return *known;
   std::vector<ExprRef> ops;
   ExprRef roots[] = {e};
   postOrder(
       roots,
       [&](ExprRef n) {
-        if (memo_.count(n))
+        if (memo_.contains(n))
           return true;
         // A replaced node is not entered: its operands do not matter.
         if (auto it = map_.find(n); it != map_.end()) {
-          memo_.emplace(n, it->second);
+          memo_.insert(n, it->second);
           return true;
         }
         return false;
@@ -66,15 +66,15 @@ ExprRef Substitution::apply(ExprRef e) {
           ops.clear();
           bool changed = false;
           for (ExprRef op : n->operands()) {
-            ops.push_back(memo_.at(op));
+            ops.push_back(*memo_.find(op));
             changed = changed || ops.back() != op;
           }
           if (changed)
             result = rebuild(ctx_, n, ops);
         }
-        memo_.emplace(n, result);
+        memo_.insert(n, result);
       });
-  return memo_.at(e);
+  return *memo_.find(e);
 }
 
 } // namespace ldae::ir

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "ir/ExprContext.h"
+#include "ir/NodeMap.h"
 
 #include <unordered_map>
 
@@ -19,7 +20,7 @@ public:
 private:
   ExprContext &ctx_;
   std::unordered_map<ExprRef, ExprRef> map_;
-  std::unordered_map<ExprRef, ExprRef> memo_;
+  NodeMap<ExprRef> memo_;
 };
 
 /// Rebuilds `e` with new operands (same kind, function, comparison...).

@@ -2,34 +2,13 @@
 // built from a long chain can be a million nodes deep.
 #pragma once
 
-#include "ir/Expr.h"
+#include "ir/NodeMap.h"
 
 #include <span>
 #include <utility>
 #include <vector>
 
 namespace ldae::ir {
-
-/// A set of nodes keyed by their dense creation ids.
-class NodeSet {
-public:
-  /// Inserts `e`; false if it was already there.
-  bool insert(ExprRef e) {
-    uint32_t id = e->id();
-    if (id >= bits_.size())
-      bits_.resize(std::max<size_t>(id + 1, bits_.size() * 2), false);
-    if (bits_[id])
-      return false;
-    bits_[id] = true;
-    return true;
-  }
-  bool contains(ExprRef e) const {
-    return e->id() < bits_.size() && bits_[e->id()];
-  }
-
-private:
-  std::vector<bool> bits_;
-};
 
 /// Calls `visit(e)` once for every node reachable from `roots`, operands
 /// before users, without entering nodes for which `prune(e)` is true.
