@@ -6,9 +6,9 @@
 #include "ir/Differentiate.h"
 #include "ir/Query.h"
 
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <sys/resource.h>
 
 using namespace ldae::ir;

@@ -85,15 +85,14 @@ template <typename D> ExprRef chainRule(ExprContext &ctx, ExprRef e, D &&d) {
       if (isZero(da))
         return ctx.zero();
       return ctx.mul(
-          ctx.pow(ctx.add(ctx.one(), ctx.pow(a, ctx.constant(2))), minus1),
-          da);
+          ctx.pow(ctx.add(ctx.one(), ctx.pow(a, ctx.constant(2))), minus1), da);
     case FuncKind::Atan2: { // atan2(y, x)' = (x y' - y x') / (x^2 + y^2)
       ExprRef y = a, x = e->operand(1), dy = da, dx = d(x);
       if (isZero(dy) && isZero(dx))
         return ctx.zero();
       ExprRef num = ctx.sub(scale(x, dy), scale(y, dx));
-      ExprRef den = ctx.add(ctx.pow(x, ctx.constant(2)),
-                            ctx.pow(y, ctx.constant(2)));
+      ExprRef den =
+          ctx.add(ctx.pow(x, ctx.constant(2)), ctx.pow(y, ctx.constant(2)));
       return ctx.div(num, den);
     }
     case FuncKind::Sinh:
@@ -112,8 +111,7 @@ template <typename D> ExprRef chainRule(ExprContext &ctx, ExprRef e, D &&d) {
       return isZero(da) ? ctx.zero()
                         : ctx.div(da, ctx.mul(a, ctx.constant(std::log(10.0))));
     case FuncKind::Sqrt: // 1 / (2 sqrt(a))
-      return isZero(da) ? ctx.zero()
-                        : ctx.div(da, ctx.mul(ctx.constant(2), e));
+      return isZero(da) ? ctx.zero() : ctx.div(da, ctx.mul(ctx.constant(2), e));
     case FuncKind::Abs:
       return scale(ctx.call(FuncKind::Sign, a), da);
     case FuncKind::Sign:

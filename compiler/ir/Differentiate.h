@@ -9,7 +9,6 @@
 #include "ir/ExprContext.h"
 #include "ir/NodeMap.h"
 
-
 namespace ldae::ir {
 
 class Differentiator {

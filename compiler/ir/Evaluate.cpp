@@ -60,12 +60,18 @@ std::string powProblem(double a, double b) {
 
 bool compareValues(CompareKind c, double a, double b) {
   switch (c) {
-  case CompareKind::Lt: return a < b;
-  case CompareKind::Le: return a <= b;
-  case CompareKind::Gt: return a > b;
-  case CompareKind::Ge: return a >= b;
-  case CompareKind::Eq: return a == b;
-  case CompareKind::Ne: return a != b;
+  case CompareKind::Lt:
+    return a < b;
+  case CompareKind::Le:
+    return a <= b;
+  case CompareKind::Gt:
+    return a > b;
+  case CompareKind::Ge:
+    return a >= b;
+  case CompareKind::Eq:
+    return a == b;
+  case CompareKind::Ne:
+    return a != b;
   }
   return false;
 }
@@ -156,8 +162,8 @@ private:
         stack_[top].stage = 2;
         push(value(e->operand(0)) != 0 ? e->operand(1) : e->operand(2));
       } else {
-        done(e, value(value(e->operand(0)) != 0 ? e->operand(1)
-                                                 : e->operand(2)));
+        done(e,
+             value(value(e->operand(0)) != 0 ? e->operand(1) : e->operand(2)));
       }
       return true;
     case ExprKind::And:
@@ -244,27 +250,48 @@ double applyFunc(FuncKind f, double a, double b) {
   if (!domainProblem(f, a, b).empty())
     return kNaN;
   switch (f) {
-  case FuncKind::Sin: return std::sin(a);
-  case FuncKind::Cos: return std::cos(a);
-  case FuncKind::Tan: return std::tan(a);
-  case FuncKind::Asin: return std::asin(a);
-  case FuncKind::Acos: return std::acos(a);
-  case FuncKind::Atan: return std::atan(a);
-  case FuncKind::Atan2: return std::atan2(a, b);
-  case FuncKind::Sinh: return std::sinh(a);
-  case FuncKind::Cosh: return std::cosh(a);
-  case FuncKind::Tanh: return std::tanh(a);
-  case FuncKind::Exp: return std::exp(a);
-  case FuncKind::Log: return std::log(a);
-  case FuncKind::Log10: return std::log10(a);
-  case FuncKind::Sqrt: return std::sqrt(a);
-  case FuncKind::Abs: return std::fabs(a);
-  case FuncKind::Sign: return a > 0 ? 1.0 : a < 0 ? -1.0 : 0.0;
-  case FuncKind::Min: return a < b ? a : b;
-  case FuncKind::Max: return a > b ? a : b;
-  case FuncKind::Floor: return std::floor(a);
-  case FuncKind::Ceil: return std::ceil(a);
-  case FuncKind::Mod: return modValue(a, b);
+  case FuncKind::Sin:
+    return std::sin(a);
+  case FuncKind::Cos:
+    return std::cos(a);
+  case FuncKind::Tan:
+    return std::tan(a);
+  case FuncKind::Asin:
+    return std::asin(a);
+  case FuncKind::Acos:
+    return std::acos(a);
+  case FuncKind::Atan:
+    return std::atan(a);
+  case FuncKind::Atan2:
+    return std::atan2(a, b);
+  case FuncKind::Sinh:
+    return std::sinh(a);
+  case FuncKind::Cosh:
+    return std::cosh(a);
+  case FuncKind::Tanh:
+    return std::tanh(a);
+  case FuncKind::Exp:
+    return std::exp(a);
+  case FuncKind::Log:
+    return std::log(a);
+  case FuncKind::Log10:
+    return std::log10(a);
+  case FuncKind::Sqrt:
+    return std::sqrt(a);
+  case FuncKind::Abs:
+    return std::fabs(a);
+  case FuncKind::Sign:
+    return a > 0 ? 1.0 : a < 0 ? -1.0 : 0.0;
+  case FuncKind::Min:
+    return a < b ? a : b;
+  case FuncKind::Max:
+    return a > b ? a : b;
+  case FuncKind::Floor:
+    return std::floor(a);
+  case FuncKind::Ceil:
+    return std::ceil(a);
+  case FuncKind::Mod:
+    return modValue(a, b);
   }
   return kNaN;
 }

@@ -174,8 +174,8 @@ private:
 struct ExprContext::Impl {
   Arena arena;
   NodeTable table;
-  std::vector<ExprRef> nodes;     // by id
-  std::vector<uint8_t> total;     // by id: ExprContext::isTotal
+  std::vector<ExprRef> nodes; // by id
+  std::vector<uint8_t> total; // by id: ExprContext::isTotal
   // By id: the user list of a node as pivot (see intern): its newest user,
   // the next older user with the same pivot, and the list's length.
   std::vector<ExprRef> firstUser, nextUser;

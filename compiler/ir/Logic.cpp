@@ -14,24 +14,36 @@ namespace {
 
 bool compareValues(CompareKind c, double a, double b) {
   switch (c) {
-  case CompareKind::Lt: return a < b;
-  case CompareKind::Le: return a <= b;
-  case CompareKind::Gt: return a > b;
-  case CompareKind::Ge: return a >= b;
-  case CompareKind::Eq: return a == b;
-  case CompareKind::Ne: return a != b;
+  case CompareKind::Lt:
+    return a < b;
+  case CompareKind::Le:
+    return a <= b;
+  case CompareKind::Gt:
+    return a > b;
+  case CompareKind::Ge:
+    return a >= b;
+  case CompareKind::Eq:
+    return a == b;
+  case CompareKind::Ne:
+    return a != b;
   }
   return false;
 }
 
 CompareKind negateCompare(CompareKind c) {
   switch (c) {
-  case CompareKind::Lt: return CompareKind::Ge;
-  case CompareKind::Le: return CompareKind::Gt;
-  case CompareKind::Gt: return CompareKind::Le;
-  case CompareKind::Ge: return CompareKind::Lt;
-  case CompareKind::Eq: return CompareKind::Ne;
-  case CompareKind::Ne: return CompareKind::Eq;
+  case CompareKind::Lt:
+    return CompareKind::Ge;
+  case CompareKind::Le:
+    return CompareKind::Gt;
+  case CompareKind::Gt:
+    return CompareKind::Le;
+  case CompareKind::Ge:
+    return CompareKind::Lt;
+  case CompareKind::Eq:
+    return CompareKind::Ne;
+  case CompareKind::Ne:
+    return CompareKind::Eq;
   }
   return c;
 }
@@ -78,8 +90,7 @@ ExprRef ExprContext::call(FuncKind f, ExprRef a, ExprRef b) {
   return call(f, ops);
 }
 
-ExprRef ExprContext::ifThenElse(ExprRef cond, ExprRef then,
-                                ExprRef otherwise) {
+ExprRef ExprContext::ifThenElse(ExprRef cond, ExprRef then, ExprRef otherwise) {
   if (cond->isConstant())
     return cond->constant() != 0 ? then : otherwise;
   if (then == otherwise && isTotal(cond))

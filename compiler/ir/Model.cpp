@@ -8,11 +8,16 @@ namespace ldae::ir {
 
 const char *stateSelectName(StateSelect s) {
   switch (s) {
-  case StateSelect::Never: return "never";
-  case StateSelect::Avoid: return "avoid";
-  case StateSelect::Default: return "default";
-  case StateSelect::Prefer: return "prefer";
-  case StateSelect::Always: return "always";
+  case StateSelect::Never:
+    return "never";
+  case StateSelect::Avoid:
+    return "avoid";
+  case StateSelect::Default:
+    return "default";
+  case StateSelect::Prefer:
+    return "prefer";
+  case StateSelect::Always:
+    return "always";
   }
   assert(false && "unknown state selection");
   return "default";

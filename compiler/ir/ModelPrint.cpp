@@ -43,15 +43,15 @@ std::string quoteString(const std::string &s) {
 }
 
 std::string variableDecl(const Variable &v) {
-  std::string type = v.isBoolean   ? "Boolean"
-                     : v.isInteger ? "Integer"
+  std::string type = v.isBoolean    ? "Boolean"
+                     : v.isInteger  ? "Integer"
                      : v.isDiscrete ? "discrete Real"
                                     : "Real";
   std::string prefix = v.isInput ? "input " : v.isOutput ? "output " : "";
   std::vector<std::string> attrs;
   if (v.hasStart)
-    attrs.push_back("start = " + (v.isBoolean ? boolText(v.start)
-                                              : printNumber(v.start)));
+    attrs.push_back("start = " +
+                    (v.isBoolean ? boolText(v.start) : printNumber(v.start)));
   if (v.fixed)
     attrs.push_back("fixed = true");
   if (v.nominal != 1)

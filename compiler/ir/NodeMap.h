@@ -96,7 +96,9 @@ public:
     uint64_t bit = uint64_t(1) << (e->id() & 63);
     return chunk.present & bit ? &chunk.values[e->id() & 63] : nullptr;
   }
-  const V *find(ExprRef e) const { return const_cast<NodeMap *>(this)->find(e); }
+  const V *find(ExprRef e) const {
+    return const_cast<NodeMap *>(this)->find(e);
+  }
   bool contains(ExprRef e) const { return find(e) != nullptr; }
 
   /// Stores `v` for `e` unless `e` has a value; returns the stored value and
@@ -154,8 +156,7 @@ public:
   }
   bool contains(ExprRef e) const {
     uint32_t c = blocks_.find(e->id() >> 6);
-    return c != detail::BlockIndex::kNone &&
-           (masks_[c] >> (e->id() & 63) & 1);
+    return c != detail::BlockIndex::kNone && (masks_[c] >> (e->id() & 63) & 1);
   }
 
 private:

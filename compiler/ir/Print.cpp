@@ -32,15 +32,21 @@ enum class Ctx { Any, Numeric, Boolean };
 
 const std::unordered_set<std::string> &keywords() {
   static const std::unordered_set<std::string> words = {
-      "algorithm", "and", "annotation", "block", "break", "class", "connect",
-      "connector", "constant", "constrainedby", "der", "discrete", "each",
-      "else", "elseif", "elsewhen", "encapsulated", "end", "enumeration",
-      "equation", "expandable", "extends", "external", "false", "final",
-      "flow", "for", "function", "if", "import", "impure", "in", "initial",
-      "inner", "input", "loop", "model", "not", "operator", "or", "outer",
-      "output", "package", "parameter", "partial", "protected", "public",
-      "pure", "record", "redeclare", "replaceable", "return", "stream", "then",
-      "true", "type", "when", "while", "within", "time"};
+      "algorithm",    "and",           "annotation",  "block",
+      "break",        "class",         "connect",     "connector",
+      "constant",     "constrainedby", "der",         "discrete",
+      "each",         "else",          "elseif",      "elsewhen",
+      "encapsulated", "end",           "enumeration", "equation",
+      "expandable",   "extends",       "external",    "false",
+      "final",        "flow",          "for",         "function",
+      "if",           "import",        "impure",      "in",
+      "initial",      "inner",         "input",       "loop",
+      "model",        "not",           "operator",    "or",
+      "outer",        "output",        "package",     "parameter",
+      "partial",      "protected",     "public",      "pure",
+      "record",       "redeclare",     "replaceable", "return",
+      "stream",       "then",          "true",        "type",
+      "when",         "while",         "within",      "time"};
   return words;
 }
 
@@ -384,16 +390,26 @@ private:
 
   static std::string opName(ExprRef e) {
     switch (e->kind()) {
-    case ExprKind::Add: return "+";
-    case ExprKind::Mul: return "*";
-    case ExprKind::Pow: return "^";
-    case ExprKind::Call: return funcName(e->func());
-    case ExprKind::If: return "if";
-    case ExprKind::Compare: return compareSymbol(e->compare());
-    case ExprKind::And: return "and";
-    case ExprKind::Or: return "or";
-    case ExprKind::Not: return "not";
-    default: return "?";
+    case ExprKind::Add:
+      return "+";
+    case ExprKind::Mul:
+      return "*";
+    case ExprKind::Pow:
+      return "^";
+    case ExprKind::Call:
+      return funcName(e->func());
+    case ExprKind::If:
+      return "if";
+    case ExprKind::Compare:
+      return compareSymbol(e->compare());
+    case ExprKind::And:
+      return "and";
+    case ExprKind::Or:
+      return "or";
+    case ExprKind::Not:
+      return "not";
+    default:
+      return "?";
     }
   }
 };
@@ -413,13 +429,15 @@ std::string printNumber(double v) {
 }
 
 std::string printIdentifier(const std::string &name) {
-  bool plain = !name.empty() &&
-               (std::isalpha(static_cast<unsigned char>(name[0])) ||
-                name[0] == '_') &&
-               std::all_of(name.begin(), name.end(), [](char c) {
-                 return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-               }) &&
-               !keywords().count(name);
+  bool plain =
+      !name.empty() &&
+      (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+      std::all_of(name.begin(), name.end(),
+                  [](char c) {
+                    return std::isalnum(static_cast<unsigned char>(c)) ||
+                           c == '_';
+                  }) &&
+      !keywords().count(name);
   if (plain)
     return name;
   std::string quoted = "'";

@@ -13,8 +13,9 @@ namespace {
 template <typename Pred> bool anyNode(ExprRef e, Pred &&pred) {
   bool found = false;
   ExprRef roots[] = {e};
-  postOrder(roots, [&](ExprRef) { return found; },
-            [&](ExprRef n) { found = found || pred(n); });
+  postOrder(
+      roots, [&](ExprRef) { return found; },
+      [&](ExprRef n) { found = found || pred(n); });
   return found;
 }
 

@@ -38,7 +38,8 @@ void postOrder(std::span<const ExprRef> roots, Prune &&prune, Visit &&visit) {
 
 template <typename Visit>
 void postOrder(std::span<const ExprRef> roots, Visit &&visit) {
-  postOrder(roots, [](ExprRef) { return false; }, visit);
+  postOrder(
+      roots, [](ExprRef) { return false; }, visit);
 }
 
 } // namespace ldae::ir

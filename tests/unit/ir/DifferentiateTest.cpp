@@ -56,6 +56,7 @@ auto apart(double lo, double hi) {
 
 ExprRef unary(ExprContext &c, FuncKind f, ExprRef a) { return c.call(f, a); }
 
+// clang-format off
 const Case cases[] = {
     {"sin", [](auto &c, auto x, auto) { return unary(c, FuncKind::Sin, x); }, box(-3, 3)},
     {"cos", [](auto &c, auto x, auto) { return unary(c, FuncKind::Cos, x); }, box(-3, 3)},
@@ -93,6 +94,7 @@ const Case cases[] = {
     {"chain", [](auto &c, auto x, auto y) {
        return c.call(FuncKind::Exp, c.mul(c.call(FuncKind::Sin, c.mul(x, y)), c.call(FuncKind::Cos, x))); }, box(-1, 1)},
 };
+// clang-format on
 
 class BuiltinDerivative : public ::testing::TestWithParam<Case> {};
 
@@ -132,8 +134,8 @@ TEST_P(BuiltinDerivative, MatchesFiniteDifferences) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Builtins, BuiltinDerivative, ::testing::ValuesIn(cases),
-                         [](const auto &info) {
+INSTANTIATE_TEST_SUITE_P(Builtins, BuiltinDerivative,
+                         ::testing::ValuesIn(cases), [](const auto &info) {
                            std::string n = info.param.name;
                            for (char &ch : n)
                              if (!std::isalnum(static_cast<unsigned char>(ch)))
@@ -161,11 +163,12 @@ TEST(Differentiate, PiecewiseRulesAreSymbolic) {
 TEST(Differentiate, TimeDerivativeMatchesHandComputation) {
   // e = x^2 * sin(y) + exp(time * x) / z + p * pre(x)
   ExprContext c;
-  ExprRef x = c.var(0), y = c.var(1), z = c.var(2), t = c.time(), p = c.param(0);
-  ExprRef e = c.add(
-      c.add(c.mul(c.pow(x, c.constant(2)), c.call(FuncKind::Sin, y)),
-            c.div(c.call(FuncKind::Exp, c.mul(t, x)), z)),
-      c.mul(p, c.pre(0)));
+  ExprRef x = c.var(0), y = c.var(1), z = c.var(2), t = c.time(),
+          p = c.param(0);
+  ExprRef e =
+      c.add(c.add(c.mul(c.pow(x, c.constant(2)), c.call(FuncKind::Sin, y)),
+                  c.div(c.call(FuncKind::Exp, c.mul(t, x)), z)),
+            c.mul(p, c.pre(0)));
   Differentiator d(c);
   ExprRef de = d.timeDerivative(e);
   EXPECT_FALSE(dependsOn(de, {0, 2}));
@@ -186,7 +189,9 @@ TEST(Differentiate, TimeDerivativeMatchesHandComputation) {
                       std::exp(tv * v[0]) * dv[2] / (v[2] * v[2]);
     EvalEnv env;
     env.time = tv;
-    env.variable = [&](VarKey k) { return k.order == 0 ? v[k.var] : dv[k.var]; };
+    env.variable = [&](VarKey k) {
+      return k.order == 0 ? v[k.var] : dv[k.var];
+    };
     env.parameter = [](ParamId) { return 3.0; };
     auto got = evaluate(de, env);
     ASSERT_TRUE(got);

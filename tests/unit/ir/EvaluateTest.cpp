@@ -61,8 +61,9 @@ TEST_F(Eval, IfEvaluatesOnlyTheChosenBranch) {
                            c.call(FuncKind::Log, x), c.constant(7));
   EXPECT_EQ(*run(e), 7);
   // and/or short-circuit the same way.
-  ExprRef guard = c.logicalAnd(c.compare(CompareKind::Gt, x, c.zero()),
-                               c.compare(CompareKind::Gt, c.call(FuncKind::Log, x), c.zero()));
+  ExprRef guard = c.logicalAnd(
+      c.compare(CompareKind::Gt, x, c.zero()),
+      c.compare(CompareKind::Gt, c.call(FuncKind::Log, x), c.zero()));
   EXPECT_EQ(*run(guard), 0);
 }
 
@@ -92,8 +93,9 @@ TEST_F(Eval, DomainErrorsNameTheSubexpression) {
             "argument 3 outside [-1, 1] in 'asin(y)'");
   EXPECT_EQ(errorOf(c.call(FuncKind::Acos, c.neg(y))),
             "argument -3 outside [-1, 1] in 'acos(-y)'");
-  EXPECT_EQ(errorOf(c.pow(c.sub(x, y), c.constant(0.5))),
-            "negative base -2.5 with non-integer exponent 0.5 in '(x - y)^0.5'");
+  EXPECT_EQ(
+      errorOf(c.pow(c.sub(x, y), c.constant(0.5))),
+      "negative base -2.5 with non-integer exponent 0.5 in '(x - y)^0.5'");
   EXPECT_EQ(errorOf(c.pow(c.sub(r, c.constant(5)), c.constant(-1.5))),
             "division by zero in '1 / ('r1.v' - 5)^1.5'");
   EXPECT_EQ(errorOf(c.call(FuncKind::Mod, y, c.sub(r, c.constant(5)))),

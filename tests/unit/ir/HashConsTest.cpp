@@ -35,8 +35,10 @@ TEST(HashCons, CommutativeOperandsInAnyOrder) {
   EXPECT_EQ(c.add(abc), c.add(bca));
   EXPECT_EQ(c.mul(abc), c.mul(bca));
   EXPECT_EQ(c.add(c.add(x, y), s), c.add(x, c.add(s, y)));
-  EXPECT_EQ(c.mul(c.mul(x, y), c.constant(2)), c.mul(c.constant(2), c.mul(y, x)));
-  ExprRef cx = c.compare(CompareKind::Lt, x, y), cy = c.compare(CompareKind::Lt, y, z);
+  EXPECT_EQ(c.mul(c.mul(x, y), c.constant(2)),
+            c.mul(c.constant(2), c.mul(y, x)));
+  ExprRef cx = c.compare(CompareKind::Lt, x, y),
+          cy = c.compare(CompareKind::Lt, y, z);
   EXPECT_EQ(c.logicalAnd(cx, cy), c.logicalAnd(cy, cx));
   EXPECT_EQ(c.logicalOr(cx, cy), c.logicalOr(cy, cx));
   // Coefficients folded in any order give the same bits.

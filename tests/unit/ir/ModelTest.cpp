@@ -63,7 +63,8 @@ TEST(Model, PrintsFlatLsd) {
   ExprRef vdd = c.var(iv, 2);
   m.equations.push_back(eq(c.add(vdd, c.mul(c.constant(4), V))));
   m.equations.push_back(eq(c.sub(c.neg(Y), c.call(FuncKind::Sin, c.time()))));
-  m.equations.push_back(eq(c.sub(c.var(ib), c.compare(CompareKind::Gt, Y, c.zero()))));
+  m.equations.push_back(
+      eq(c.sub(c.var(ib), c.compare(CompareKind::Gt, Y, c.zero()))));
   m.initialEquations.push_back(eq(c.var(ix, 1)));
   WhenClause w;
   w.condition = c.compare(CompareKind::Lt, X, c.zero());

@@ -97,7 +97,8 @@ TEST_F(Print, Arithmetic) {
   EXPECT_EQ(lsd(c.pow(x, num(-0.5))), "1 / x^0.5");
   EXPECT_EQ(lsd(sq(c.call(FuncKind::Sin, x))), "sin(x)^2");
   EXPECT_EQ(lsd(c.call(FuncKind::Atan2, y, c.neg(x))), "atan2(y, -x)");
-  EXPECT_EQ(lsd(c.mul(k, c.call(FuncKind::Mod, rv, ms))), "k * mod('r1.v', 'm[2].s')");
+  EXPECT_EQ(lsd(c.mul(k, c.call(FuncKind::Mod, rv, ms))),
+            "k * mod('r1.v', 'm[2].s')");
   EXPECT_EQ(lsd(c.sub(x, c.mul(num(2), c.div(y, z)))), "x - 2 * y / z");
 }
 
@@ -109,12 +110,17 @@ TEST_F(Print, ConditionalsAndLogic) {
             "(if x < y then x else y) + 1");
   EXPECT_EQ(lsd(c.add(x, lt(x, y))), "x + (if x < y then 1 else 0)");
   ExprRef a = lt(x, y), b = lt(y, z), d = c.compare(CompareKind::Ne, z, x);
-  EXPECT_EQ(lsd(c.logicalOr(c.logicalAnd(a, b), d)), "z <> x or x < y and y < z");
-  EXPECT_EQ(lsd(c.logicalAnd(c.logicalOr(a, b), d)), "z <> x and (x < y or y < z)");
+  EXPECT_EQ(lsd(c.logicalOr(c.logicalAnd(a, b), d)),
+            "z <> x or x < y and y < z");
+  EXPECT_EQ(lsd(c.logicalAnd(c.logicalOr(a, b), d)),
+            "z <> x and (x < y or y < z)");
   EXPECT_EQ(lsd(c.logicalNot(c.logicalAnd(a, b))), "not (x < y and y < z)");
-  EXPECT_EQ(lsd(c.compare(CompareKind::Ge, c.neg(x), c.add(y, z))), "-x >= y + z");
-  EXPECT_EQ(lsd(c.logicalAnd(c.zero(), c.compare(CompareKind::Gt, c.call(FuncKind::Log, x), num(0)))),
-            "false and log(x) > 0");
+  EXPECT_EQ(lsd(c.compare(CompareKind::Ge, c.neg(x), c.add(y, z))),
+            "-x >= y + z");
+  EXPECT_EQ(
+      lsd(c.logicalAnd(c.zero(), c.compare(CompareKind::Gt,
+                                           c.call(FuncKind::Log, x), num(0)))),
+      "false and log(x) > 0");
 }
 
 TEST_F(Print, DebugAndBrief) {
@@ -122,7 +128,8 @@ TEST_F(Print, DebugAndBrief) {
   ExprRef s = c.call(FuncKind::Sin, x);
   ExprRef e = c.add(s, c.mul(s, c.var(1, 2)));
   std::string id = std::to_string(s->id());
-  EXPECT_EQ(printDebug(e, &names), "(+ #" + id + "=(sin x) (* #" + id + " y'2))");
+  EXPECT_EQ(printDebug(e, &names),
+            "(+ #" + id + "=(sin x) (* #" + id + " y'2))");
   ExprRef big = x;
   for (int i = 0; i < 50; ++i)
     big = c.call(FuncKind::Cos, c.add(big, y));

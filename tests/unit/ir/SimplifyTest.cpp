@@ -40,6 +40,7 @@ TEST_P(SimplifyTable, PrintsExpected) {
 
 ExprRef k(ExprContext &c, double v) { return c.constant(v); }
 
+// clang-format off
 const Row rows[] = {
     // Constant folding.
     {"fold-add", [](auto &c, auto, auto, auto) { return c.add(k(c, 2), k(c, 3)); }, "5"},
@@ -118,6 +119,7 @@ const Row rows[] = {
     {"min-same", [](auto &c, auto x, auto, auto) { return c.call(FuncKind::Min, x, x); }, "x"},
     {"abs-abs", [](auto &c, auto x, auto, auto) { return c.call(FuncKind::Abs, c.call(FuncKind::Abs, x)); }, "abs(x)"},
 };
+// clang-format on
 
 INSTANTIATE_TEST_SUITE_P(Rules, SimplifyTable, ::testing::ValuesIn(rows));
 

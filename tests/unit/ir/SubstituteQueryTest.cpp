@@ -1,7 +1,7 @@
 // Substitution (memoized, re-simplifying) and the read-only queries.
+#include "ir/Print.h"
 #include "ir/Query.h"
 #include "ir/Substitute.h"
-#include "ir/Print.h"
 
 #include <algorithm>
 #include <gtest/gtest.h>
@@ -55,7 +55,8 @@ TEST(Substitute, RebuildKeepsKindAndSimplifies) {
 TEST(Query, VariablesParametersOrders) {
   ExprContext c;
   ExprRef x = c.var(0), dx = c.var(0, 1), ddy = c.var(1, 2);
-  ExprRef e = c.add(c.mul(c.param(3), dx), c.call(FuncKind::Exp, c.sub(ddy, x)));
+  ExprRef e =
+      c.add(c.mul(c.param(3), dx), c.call(FuncKind::Exp, c.sub(ddy, x)));
   e = c.add(e, c.mul(c.param(1), c.pre(2)));
   std::vector<VarKey> expect = {{0, 0}, {0, 1}, {1, 2}};
   EXPECT_EQ(freeVariables(e), expect);
