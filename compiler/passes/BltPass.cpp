@@ -19,7 +19,9 @@ bool runBlt(AnalysisState &s) {
   for (size_t set = 0; set < sys.stateSets.size(); ++set) {
     graph::BipartiteGraph g = systemGraph(sys, set, true);
     graph::Matching m = graph::maximumMatching(g);
-    if (m.size < g.numRows()) {
+    // The unreduced system of `--method raw` is singular whenever the
+    // model's index exceeds one: that is what raw is for.
+    if (m.size < g.numRows() && s.opts.method != "raw") {
       // Name what is wrong, as for the model.
       SingularityNames names;
       names.rowLoc = [&](int r) {
@@ -33,11 +35,8 @@ bool runBlt(AnalysisState &s) {
       };
       names.colName = [&](int c) { return sys.unknowns[c].name; };
       names.colLoc = [&](int c) { return sys.unknowns[c].loc; };
-      diagnoseSingular(s, s.opts.method == "raw" ? "unreduced system"
-                                                 : "index-reduced system",
-                       g, m, names, {}, false);
-      if (s.opts.method != "raw")
-        return false;
+      diagnoseSingular(s, "index-reduced system", g, m, names, {}, false);
+      return false;
     }
     if (set == 0) {
       s.result.bltBlocks.clear();

@@ -61,8 +61,11 @@ public:
   void buildLevels();
   /// A full selection; `topOverride` forces top-level pairs (row, col).
   /// Returns the selected unknowns per level (index l-1), or empty on failure.
+  /// With `atStart`, numerically singular blocks at the start point are
+  /// re-chosen by pivoting; alternatives (meant for elsewhere in state
+  /// space) keep the structural completion.
   std::vector<std::vector<int>>
-  choose(const std::vector<std::pair<int, int>> &topOverride);
+  choose(const std::vector<std::pair<int, int>> &topOverride, bool atStart);
   DummyChoice toChoice(const std::vector<std::vector<int>> &sel) const;
   void findAmbiguous(const std::vector<int> &topSelection);
 
@@ -82,6 +85,16 @@ public:
                                  unsigned &size) const;
 
 private:
+  /// How much selecting unknown j at `order` (making order + 1 a dummy)
+  /// is wanted: it costs x its place among the states only at order 0, so
+  /// stateSelect ranks those; higher orders (der(x) no longer a state) go
+  /// first, keeping the user's own variables as states.
+  int dummyRank(int j, int order) const {
+    if (order > 0)
+      return -1;
+    return static_cast<int>(
+        s_.model.variables[s_.unknowns[j]].stateSelect);
+  }
   ir::ExprRef entry(const Level &lv, int r, int c) const;
   bool fixDense(Level &lv, int levelIndex, graph::Matching &m,
                 const std::vector<char> &forcedCol);
@@ -158,11 +171,10 @@ void Selector::buildLevels() {
         if (std::isfinite(e.value))
           rowMax = std::max(rowMax, std::fabs(e.value));
       auto key = [&](const Edge &e) {
-        const ir::Variable &v =
-            s_.model.variables[s_.unknowns[lv.colVar[e.col]]];
-        return std::make_tuple(static_cast<int>(v.stateSelect),
+        int j = lv.colVar[e.col];
+        return std::make_tuple(dummyRank(j, s_.highest[j] - l),
                                magnitudeClass(e.value, rowMax),
-                               -s_.highest[lv.colVar[e.col]], v.name);
+                               -s_.highest[j], s_.model.variables[s_.unknowns[j]].name);
       };
       std::stable_sort(es.begin(), es.end(), [&](const Edge &a, const Edge &b) {
         return key(a) < key(b);
@@ -224,19 +236,20 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
     for (size_t k = 0; k < order.size(); ++k)
       order[k] = static_cast<int>(k);
     auto prefKey = [&](int k) {
-      const ir::Variable &v =
-          s_.model.variables[s_.unknowns[lv.colVar[piece.cols[k]]]];
+      int j = lv.colVar[piece.cols[k]];
       return std::make_tuple(forcedCol[piece.cols[k]] ? 0 : 1,
-                             static_cast<int>(v.stateSelect),
-                             -s_.highest[lv.colVar[piece.cols[k]]], v.name);
+                             dummyRank(j, s_.highest[j] - levelIndex),
+                             -s_.highest[j],
+                             s_.model.variables[s_.unknowns[j]].name);
     };
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return prefKey(a) < prefKey(b); });
     std::vector<char> rowUsed(nr, 0);
     std::vector<std::pair<int, int>> chosen; // (row pos, col pos)
     double scale = A.cwiseAbs().maxCoeff();
+    bool forcedLost = false;
     for (int k : order) {
-      if (static_cast<int>(chosen.size()) == nr)
+      if (static_cast<int>(chosen.size()) == nr || forcedLost)
         break;
       int best = -1;
       double bestVal = 1e-10 * std::max(scale, 1.0);
@@ -246,8 +259,10 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
           best = r;
         }
       if (best < 0) {
-        if (forcedCol[piece.cols[k]])
-          ok = false; // a forced column became dependent
+        // A forced column dependent at this point (an alternative state
+        // set made for elsewhere in state space): keep the structural
+        // choice.
+        forcedLost = forcedLost || forcedCol[piece.cols[k]];
         continue;
       }
       rowUsed[best] = 1;
@@ -257,7 +272,7 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
         if (r != best && A(r, k) != 0)
           A.row(r) -= (A(r, k) / A(best, k)) * A.row(best);
     }
-    if (static_cast<int>(chosen.size()) < nr) {
+    if (forcedLost || static_cast<int>(chosen.size()) < nr) {
       ok = false;
       continue;
     }
@@ -284,12 +299,12 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
       m.colMate[chosenCols[sm.rowMate[r]]] = piece.rows[r];
     }
   }
-  (void)levelIndex;
   return ok;
 }
 
 std::vector<std::vector<int>>
-Selector::choose(const std::vector<std::pair<int, int>> &topOverride) {
+Selector::choose(const std::vector<std::pair<int, int>> &topOverride,
+                 bool atStart) {
   const int L = levels();
   std::vector<std::vector<int>> selected(L);
   std::vector<std::pair<int, int>> prev; // (original equation, unknown)
@@ -322,7 +337,7 @@ Selector::choose(const std::vector<std::pair<int, int>> &topOverride) {
                 std::to_string(l);
       return {};
     }
-    if (!fixDense(lv, l, m, forced)) {
+    if (atStart && !fixDense(lv, l, m, forced)) {
       failure = "the Jacobian of the differentiated equations at level " +
                 std::to_string(l) + " is singular at the start point";
       // Keep the structural choice: a singular start point is a warning.
@@ -488,7 +503,7 @@ bool runDummyDerivatives(AnalysisState &s) {
 
   Selector sel(s);
   sel.buildLevels();
-  std::vector<std::vector<int>> first = sel.choose({});
+  std::vector<std::vector<int>> first = sel.choose({}, true);
   if (first.empty()) {
     s.diags.report(DiagId::ErrIndexReductionFailed, s.model.loc,
                    {sel.failure});
@@ -524,7 +539,7 @@ bool runDummyDerivatives(AnalysisState &s) {
         if (b != a)
           for (int r : sel.ambiguous[b].rows)
             override.emplace_back(r, top.colOfVar[first.back()[r]]);
-      std::vector<std::vector<int>> choice = sel.choose(override);
+      std::vector<std::vector<int>> choice = sel.choose(override, false);
       if (choice.empty())
         continue;
       bool duplicate = false;

@@ -107,7 +107,9 @@ bool solvable(const AnalysisState &s, const InitSystem &is,
 } // namespace
 
 bool runInitialization(AnalysisState &s) {
-  if (!s.haveSystem)
+  // The unreduced system of `--method raw` has no meaningful
+  // initialization structure when the index exceeds one.
+  if (!s.haveSystem || s.opts.method == "raw")
     return true;
   const ir::DaeSystem &sys = s.system;
   const ir::StateSet &st = sys.stateSets[0];
