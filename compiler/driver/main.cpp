@@ -4,11 +4,30 @@
 // 3 numerical failure during simulation.
 #include "Options.h"
 
+#include "frontend/Frontend.h"
+#include "support/Diagnostics.h"
+
 #include <CLI/CLI.hpp>
 
+#include <fstream>
 #include <iostream>
 
 using namespace ldae;
+
+/// Writes `text` to `path`, or to stdout when `path` is empty.
+static bool writeOutput(const std::string &path, const std::string &text) {
+  if (path.empty()) {
+    std::cout << text;
+    return true;
+  }
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) {
+    std::cerr << "ldaec: error: cannot write '" << path << "'\n";
+    return false;
+  }
+  return true;
+}
 
 int main(int argc, char **argv) {
   driver::Options opts;
@@ -21,6 +40,31 @@ int main(int argc, char **argv) {
     int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
   }
-  std::cerr << "ldaec: error: the pipeline is not built yet\n";
+
+  // 1. Parse, check and flatten the model.
+  SourceManager sources;
+  DiagnosticEngine diags(sources);
+  diags.setErrorLimit(50);
+  frontend::FrontendOptions feOpts;
+  feOpts.modelName = opts.modelName;
+  feOpts.paramOverrides = opts.paramOverrides;
+  std::unique_ptr<ir::Model> model =
+      frontend::compileFile(opts.input, feOpts, sources, diags);
+  diags.flush(std::cerr);
+  if (!model)
+    return 1;
+
+  // 2. As many equations as unknowns: required to simulate or emit,
+  // reported (as a warning) by --analyze, which diagnoses any model.
+  bool needSquare = opts.simulate || !opts.emit.empty();
+  bool balanced = frontend::checkBalance(*model, diags, needSquare);
+  diags.flush(std::cerr);
+  if (needSquare && !balanced)
+    return 1;
+
+  if (opts.emit == "flat")
+    return writeOutput(opts.outputFile, model->print()) ? 0 : 1;
+
+  std::cerr << "ldaec: error: the pipeline after the frontend is not built yet\n";
   return 1;
 }

@@ -1,0 +1,504 @@
+// Calls: the built-in functions and operators of LANGUAGE.md (der by the
+// chain rule, pre, reductions, size, array constructors, math functions)
+// and the dispatch to user functions, which Inline.cpp inlines.
+#include "frontend/Flattener.h"
+
+#include <cmath>
+
+namespace ldae::frontend {
+namespace {
+
+struct MathFn {
+  const char *name;
+  ir::FuncKind kind;
+};
+constexpr MathFn kMathFns[] = {
+    {"sin", ir::FuncKind::Sin},     {"cos", ir::FuncKind::Cos},
+    {"tan", ir::FuncKind::Tan},     {"asin", ir::FuncKind::Asin},
+    {"acos", ir::FuncKind::Acos},   {"atan", ir::FuncKind::Atan},
+    {"atan2", ir::FuncKind::Atan2}, {"sinh", ir::FuncKind::Sinh},
+    {"cosh", ir::FuncKind::Cosh},   {"tanh", ir::FuncKind::Tanh},
+    {"exp", ir::FuncKind::Exp},     {"log", ir::FuncKind::Log},
+    {"log10", ir::FuncKind::Log10}, {"sqrt", ir::FuncKind::Sqrt},
+    {"abs", ir::FuncKind::Abs},     {"sign", ir::FuncKind::Sign},
+    {"floor", ir::FuncKind::Floor}, {"ceil", ir::FuncKind::Ceil},
+    {"mod", ir::FuncKind::Mod},     {"min", ir::FuncKind::Min},
+    {"max", ir::FuncKind::Max},
+};
+
+const MathFn *mathFn(const std::string &name) {
+  for (const MathFn &f : kMathFns)
+    if (name == f.name)
+      return &f;
+  return nullptr;
+}
+
+/// Names handled here rather than by lookup; the unsupported ones get a
+/// clear message instead of "undefined name".
+bool isBuiltinName(const std::string &n) {
+  static const char *names[] = {
+      "der", "pre", "initial", "terminal", "noEvent", "smooth", "homotopy",
+      "sum", "product", "size", "ndims", "zeros", "ones", "fill", "identity",
+      "linspace", "transpose", "vector", "scalar", "cross", "diagonal", "div",
+      "rem", "integer", "Integer", "sample", "edge", "change", "delay",
+      "reinit", "assert", "terminate", "cardinality", "semiLinear", "String",
+      "abs", "sign", "sqrt", "min", "max", "mod", "floor", "ceil",
+  };
+  for (const char *b : names)
+    if (n == b)
+      return true;
+  return mathFn(n) != nullptr;
+}
+
+/// `Modelica.Math.sin` and `Modelica.Constants` style names map to the
+/// built-ins, so models written against the MSL's math package compile.
+std::string builtinNameOf(const ast::Expr &call) {
+  if (call.parts.size() == 1 && !call.global)
+    return call.parts[0].name;
+  if (call.parts.size() >= 3 && call.parts[0].name == "Modelica" &&
+      call.parts[1].name == "Math" && mathFn(call.parts.back().name))
+    return call.parts.back().name;
+  return "";
+}
+
+} // namespace
+
+std::optional<std::vector<Value>>
+Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
+                            Env *env) {
+  std::string builtin = builtinNameOf(call);
+  if (builtin.empty() || !isBuiltinName(builtin)) {
+    ast::Name fname;
+    fname.global = call.global;
+    for (const auto &p : call.parts)
+      fname.parts.push_back(p.name);
+    fname.loc = call.loc;
+    fname.length = static_cast<uint32_t>(call.text.size());
+    uint32_t file = scope.cls ? scope.cls->file : call.loc.file;
+    LexicalHit hit = classes_.lookup(fname.parts[0], call.global ? nullptr : scope.cls, file);
+    if (!hit.cls) {
+      std::vector<std::string> names;
+      classes_.visibleNames(scope.cls, file, names);
+      for (const MathFn &f : kMathFns)
+        names.push_back(f.name);
+      std::string best = closestName(fname.parts[0], names);
+      if (best.empty())
+        report(DiagId::ErrUndefinedFunction, SourceRange{fname.loc, fname.length},
+               {fname.str()});
+      else
+        report(DiagId::ErrUndefinedFunctionSuggest,
+               SourceRange{fname.loc, fname.length}, {fname.str(), best});
+      return std::nullopt;
+    }
+    const ast::ClassDef *fn = classes_.resolveClass(fname, call.global ? nullptr : scope.cls, file);
+    if (!fn)
+      return std::nullopt;
+    // A short definition `function f2 = f;` names the same function.
+    for (unsigned guard = 0; fn && fn->isShort && guard < 16; ++guard)
+      fn = classes_.resolveClass(fn->shortBase, fn->parent, fn->file);
+    if (!fn)
+      return std::nullopt;
+    if (fn->kind != ast::ClassKind::Function) {
+      report(DiagId::ErrNotAFunction, SourceRange{fname.loc, fname.length},
+             {fname.str(), ast::classKindName(fn->kind)});
+      return std::nullopt;
+    }
+    return inlineCall(*fn, call, scope, env);
+  }
+  std::optional<Value> v = lowerCall(call, scope, env);
+  if (!v)
+    return std::nullopt;
+  return std::vector<Value>{std::move(*v)};
+}
+
+std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
+                                          const Scope &scope, Env *env) {
+  std::string name = builtinNameOf(call);
+  if (name.empty() || !isBuiltinName(name)) {
+    auto outs = lowerCallOutputs(call, scope, env);
+    if (!outs)
+      return std::nullopt;
+    if (outs->empty()) {
+      report(DiagId::ErrFunctionNoOutput, SourceRange{call.loc, call.length},
+             {call.text});
+      return std::nullopt;
+    }
+    return std::move((*outs)[0]);
+  }
+  ir::ExprContext &c = ctx();
+  SourceRange where{call.loc, call.length};
+
+  // Reductions with iterators: sum(e for i in 1:n), product, min, max.
+  if (!call.iterators.empty()) {
+    if (name != "sum" && name != "product" && name != "min" && name != "max") {
+      report(DiagId::ErrUnsupported, where, {"'for' in a call to '" + name + "'"});
+      return std::nullopt;
+    }
+    if (call.args.size() != 1) {
+      report(DiagId::ErrCallArgCount, where, {name, "1", std::to_string(call.args.size())});
+      return std::nullopt;
+    }
+    Env local{env, {}};
+    std::optional<Value> acc;
+    std::function<bool(size_t)> iterate = [&](size_t k) -> bool {
+      if (k == call.iterators.size()) {
+        std::optional<Value> v = lower(*call.args[0].value, scope, &local);
+        if (!v || v->isString)
+          return false;
+        if (!acc) {
+          acc = std::move(v);
+          return true;
+        }
+        auto combined = [&](ir::ExprRef a, ir::ExprRef b) {
+          if (name == "sum")
+            return c.add(a, b);
+          if (name == "product")
+            return c.mul(a, b);
+          return c.call(name == "min" ? ir::FuncKind::Min : ir::FuncKind::Max, a, b);
+        };
+        if (v->shape != acc->shape) {
+          report(DiagId::ErrShapeMismatch, where,
+                 {name, describeShape(acc->shape), describeShape(v->shape)});
+          return false;
+        }
+        for (size_t i = 0; i < acc->elems.size(); ++i)
+          acc->elems[i] = combined(acc->elems[i], v->elems[i]);
+        return true;
+      }
+      auto values = iteratorValues(call.iterators[k], scope, &local);
+      if (!values)
+        return false;
+      for (double x : *values) {
+        local.set(call.iterators[k].name, Value::scalar(c.constant(x)));
+        if (!iterate(k + 1) || overBudget())
+          return false;
+      }
+      return true;
+    };
+    if (!iterate(0))
+      return std::nullopt;
+    if (!acc) {
+      if (name == "sum")
+        return Value::scalar(c.zero());
+      if (name == "product")
+        return Value::scalar(c.one());
+      report(DiagId::ErrEmptyReduction, where, {name});
+      return std::nullopt;
+    }
+    return acc;
+  }
+
+  for (const ast::Arg &a : call.args)
+    if (!a.name.empty() && name != "homotopy" && name != "assert") {
+      report(DiagId::ErrNamedArgBuiltin, SourceRange{a.value->loc, a.value->length},
+             {name, a.name});
+      return std::nullopt;
+    }
+  auto argCount = [&](size_t lo, size_t hi) {
+    if (call.args.size() >= lo && call.args.size() <= hi)
+      return true;
+    report(DiagId::ErrCallArgCount, where,
+           {name, lo == hi ? std::to_string(lo)
+                           : std::to_string(lo) + " to " + std::to_string(hi),
+            std::to_string(call.args.size())});
+    return false;
+  };
+  std::vector<Value> args;
+  auto lowerArgs = [&]() {
+    for (const ast::Arg &a : call.args) {
+      std::optional<Value> v = lower(*a.value, scope, env);
+      if (!v)
+        return false;
+      if (v->isString) {
+        report(DiagId::ErrStringOperand,
+               SourceRange{a.value->loc, a.value->length}, {name});
+        return false;
+      }
+      args.push_back(std::move(*v));
+    }
+    return true;
+  };
+  auto intArg = [&](size_t i) -> std::optional<int64_t> {
+    return evalInteger(*call.args[i].value, scope, env,
+                       "argument " + std::to_string(i + 1) + " of '" + name + "'");
+  };
+
+  if (name == "der") {
+    if (!argCount(1, 2) || !lowerArgs())
+      return std::nullopt;
+    int64_t times = 1;
+    if (args.size() == 2) {
+      std::optional<int64_t> n = intArg(1);
+      if (!n || *n < 1 || *n > 16)
+        return std::nullopt;
+      times = *n;
+    }
+    Value r = args[0];
+    for (int64_t t = 0; t < times; ++t)
+      for (ir::ExprRef &x : r.elems)
+        x = differentiator().timeDerivative(x);
+    return r;
+  }
+  if (name == "pre") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    Value r = args[0];
+    for (ir::ExprRef &x : r.elems) {
+      if (x->kind() == ir::ExprKind::Parameter || x->isConstant())
+        continue; // pre of a parameter is the parameter
+      if (x->kind() != ir::ExprKind::Variable || x->order() != 0) {
+        report(DiagId::ErrPreNotVariable, where, {});
+        return std::nullopt;
+      }
+      x = c.pre(x->var());
+    }
+    return r;
+  }
+  if (name == "noEvent") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    return args[0];
+  }
+  if (name == "smooth") {
+    if (!argCount(2, 2) || !lowerArgs())
+      return std::nullopt;
+    return args[1];
+  }
+  if (name == "homotopy") {
+    // The actual model; the simplified one only helps initialization.
+    for (const ast::Arg &a : call.args)
+      if (a.name.empty() || a.name == "actual")
+        return lower(*a.value, scope, env);
+    report(DiagId::ErrCallArgCount, where, {name, "2", "0"});
+    return std::nullopt;
+  }
+  if (const MathFn *f = mathFn(name)) {
+    unsigned arity = ir::funcArity(f->kind);
+    if ((name == "min" || name == "max") && call.args.size() == 1) {
+      if (!lowerArgs())
+        return std::nullopt;
+      if (args[0].elems.empty()) {
+        report(DiagId::ErrEmptyReduction, where, {name});
+        return std::nullopt;
+      }
+      ir::ExprRef acc = args[0].elems[0];
+      for (size_t i = 1; i < args[0].elems.size(); ++i)
+        acc = c.call(f->kind, acc, args[0].elems[i]);
+      return Value::scalar(acc);
+    }
+    if (!argCount(arity, arity) || !lowerArgs())
+      return std::nullopt;
+    if (arity == 1)
+      return map1Value(args[0], [&](ir::ExprRef x) { return c.call(f->kind, x); });
+    return map2Value(args[0], args[1],
+                     [&](ir::ExprRef x, ir::ExprRef y) { return c.call(f->kind, x, y); },
+                     call, name.c_str());
+  }
+  if (name == "div" || name == "rem") {
+    if (!argCount(2, 2) || !lowerArgs())
+      return std::nullopt;
+    auto truncDiv = [&](ir::ExprRef x, ir::ExprRef y) {
+      ir::ExprRef q = c.div(x, y);
+      return c.mul(c.call(ir::FuncKind::Sign, q),
+                   c.call(ir::FuncKind::Floor, c.call(ir::FuncKind::Abs, q)));
+    };
+    if (name == "div")
+      return map2Value(args[0], args[1], truncDiv, call, "div");
+    return map2Value(args[0], args[1],
+                     [&](ir::ExprRef x, ir::ExprRef y) {
+                       return c.sub(x, c.mul(truncDiv(x, y), y));
+                     },
+                     call, "rem");
+  }
+  if (name == "integer" || name == "Integer") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    return map1Value(args[0], [&](ir::ExprRef x) { return c.call(ir::FuncKind::Floor, x); });
+  }
+  if (name == "sum" || name == "product") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    if (name == "sum")
+      return Value::scalar(c.add(args[0].elems));
+    return Value::scalar(c.mul(args[0].elems));
+  }
+  if (name == "size") {
+    if (!argCount(1, 2) || !lowerArgs())
+      return std::nullopt;
+    const std::vector<int64_t> &shape = args[0].shape;
+    if (args.size() == 1) {
+      Value r;
+      r.shape.push_back(static_cast<int64_t>(shape.size()));
+      for (int64_t d : shape)
+        r.elems.push_back(c.constant(static_cast<double>(d)));
+      return r;
+    }
+    std::optional<int64_t> k = intArg(1);
+    if (!k)
+      return std::nullopt;
+    if (*k < 1 || *k > static_cast<int64_t>(shape.size())) {
+      report(DiagId::ErrSizeDimension, where,
+             {std::to_string(*k), std::to_string(shape.size())});
+      return std::nullopt;
+    }
+    return Value::scalar(c.constant(static_cast<double>(shape[*k - 1])));
+  }
+  if (name == "ndims") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    return Value::scalar(c.constant(static_cast<double>(args[0].shape.size())));
+  }
+  if (name == "zeros" || name == "ones" || name == "fill") {
+    size_t first = name == "fill" ? 1 : 0;
+    if (!argCount(first + 1, first + 4))
+      return std::nullopt;
+    Value fillValue = Value::scalar(name == "ones" ? c.one() : c.zero());
+    if (name == "fill") {
+      std::optional<Value> v = lower(*call.args[0].value, scope, env);
+      if (!v || v->isString)
+        return std::nullopt;
+      fillValue = *v;
+    }
+    Value r;
+    int64_t total = 1;
+    for (size_t i = first; i < call.args.size(); ++i) {
+      std::optional<int64_t> n = intArg(i);
+      if (!n)
+        return std::nullopt;
+      if (*n < 0 || (*n > 0 && total > kMaxArrayElements / *n)) {
+        report(DiagId::ErrArrayTooLarge, where,
+               {name, std::to_string(kMaxArrayElements)});
+        return std::nullopt;
+      }
+      total *= *n;
+      r.shape.push_back(*n);
+    }
+    r.shape.insert(r.shape.end(), fillValue.shape.begin(), fillValue.shape.end());
+    for (int64_t i = 0; i < total; ++i)
+      r.elems.insert(r.elems.end(), fillValue.elems.begin(), fillValue.elems.end());
+    return r;
+  }
+  if (name == "identity") {
+    if (!argCount(1, 1))
+      return std::nullopt;
+    std::optional<int64_t> n = intArg(0);
+    if (!n || *n < 0 || *n > 4096)
+      return std::nullopt;
+    Value r;
+    r.shape = {*n, *n};
+    for (int64_t i = 0; i < *n; ++i)
+      for (int64_t j = 0; j < *n; ++j)
+        r.elems.push_back(i == j ? c.one() : c.zero());
+    return r;
+  }
+  if (name == "diagonal") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    int64_t n = static_cast<int64_t>(args[0].elems.size());
+    if (args[0].shape.size() != 1 || n > 4096) {
+      report(DiagId::ErrExpectedScalar, where, {"argument of 'diagonal'", describeShape(args[0].shape)});
+      return std::nullopt;
+    }
+    Value r;
+    r.shape = {n, n};
+    for (int64_t i = 0; i < n; ++i)
+      for (int64_t j = 0; j < n; ++j)
+        r.elems.push_back(i == j ? args[0].elems[i] : c.zero());
+    return r;
+  }
+  if (name == "linspace") {
+    if (!argCount(3, 3) || !lowerArgs())
+      return std::nullopt;
+    std::optional<int64_t> n = intArg(2);
+    if (!n || *n < 2 || *n > kMaxArrayElements)
+      return std::nullopt;
+    Value r;
+    r.shape = {*n};
+    ir::ExprRef a = args[0].scalarExpr(), b = args[1].scalarExpr();
+    for (int64_t i = 0; i < *n; ++i)
+      r.elems.push_back(c.add(a, c.mul(c.constant(double(i) / double(*n - 1)), c.sub(b, a))));
+    return r;
+  }
+  if (name == "transpose") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    const Value &a = args[0];
+    if (a.shape.size() != 2) {
+      report(DiagId::ErrExpectedScalar, where, {"argument of 'transpose'", describeShape(a.shape)});
+      return std::nullopt;
+    }
+    Value r;
+    r.shape = {a.shape[1], a.shape[0]};
+    for (int64_t j = 0; j < a.shape[1]; ++j)
+      for (int64_t i = 0; i < a.shape[0]; ++i)
+        r.elems.push_back(a.elems[i * a.shape[1] + j]);
+    return r;
+  }
+  if (name == "vector" || name == "scalar") {
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    Value r = args[0];
+    if (name == "scalar") {
+      if (r.elems.size() != 1) {
+        report(DiagId::ErrExpectedScalar, where, {"argument of 'scalar'", describeShape(r.shape)});
+        return std::nullopt;
+      }
+      return Value::scalar(r.elems[0]);
+    }
+    r.shape = {static_cast<int64_t>(r.elems.size())};
+    return r;
+  }
+  if (name == "cross") {
+    if (!argCount(2, 2) || !lowerArgs())
+      return std::nullopt;
+    if (args[0].shape != std::vector<int64_t>{3} || args[1].shape != std::vector<int64_t>{3}) {
+      report(DiagId::ErrShapeMismatch, where,
+             {"cross", describeShape(args[0].shape), describeShape(args[1].shape)});
+      return std::nullopt;
+    }
+    const auto &x = args[0].elems, &y = args[1].elems;
+    Value r;
+    r.shape = {3};
+    r.elems = {c.sub(c.mul(x[1], y[2]), c.mul(x[2], y[1])),
+               c.sub(c.mul(x[2], y[0]), c.mul(x[0], y[2])),
+               c.sub(c.mul(x[0], y[1]), c.mul(x[1], y[0]))};
+    return r;
+  }
+  if (name == "reinit" || name == "assert" || name == "terminate") {
+    report(DiagId::ErrMisplaced, where, {name, "an equation section"});
+    return std::nullopt;
+  }
+  report(DiagId::ErrUnsupportedFunction, where, {name});
+  return std::nullopt;
+}
+
+Value Flattener::map1Value(const Value &a,
+                           const std::function<ir::ExprRef(ir::ExprRef)> &f) {
+  Value r;
+  r.shape = a.shape;
+  for (ir::ExprRef e : a.elems)
+    r.elems.push_back(f(e));
+  return r;
+}
+
+std::optional<Value> Flattener::map2Value(
+    const Value &a, const Value &b,
+    const std::function<ir::ExprRef(ir::ExprRef, ir::ExprRef)> &f,
+    const ast::Expr &where, const char *op) {
+  Value r;
+  if (a.shape.empty() || b.shape.empty() || a.shape == b.shape) {
+    r.shape = a.shape.empty() ? b.shape : a.shape;
+    size_t n = !a.shape.empty() ? a.elems.size()
+               : !b.shape.empty() ? b.elems.size()
+                                  : 1;
+    for (size_t i = 0; i < n; ++i)
+      r.elems.push_back(f(a.elems[a.shape.empty() ? 0 : i],
+                          b.elems[b.shape.empty() ? 0 : i]));
+    return r;
+  }
+  report(DiagId::ErrShapeMismatch, SourceRange{where.loc, where.length},
+         {op, describeShape(a.shape), describeShape(b.shape)});
+  return std::nullopt;
+}
+
+} // namespace ldae::frontend

@@ -1,0 +1,295 @@
+// Class lookup and library loading; see ClassTable.h.
+#include "frontend/ClassTable.h"
+#include "frontend/Parser.h"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace ldae::frontend {
+
+ClassTable::ClassTable(SourceManager &sources, DiagnosticEngine &diags,
+                       std::vector<std::string> libraryPaths)
+    : sources_(sources), diags_(diags), libraryPaths_(std::move(libraryPaths)) {}
+
+void ClassTable::addFile(std::unique_ptr<ast::StoredDefinition> file) {
+  files_.push_back(std::move(file));
+}
+
+const ast::StoredDefinition *ClassTable::file(uint32_t fileId) const {
+  for (const auto &f : files_)
+    if (f->file == fileId)
+      return f.get();
+  return nullptr;
+}
+
+const ast::ClassDef *ClassTable::topLevel(uint32_t fileId,
+                                          const std::string &name) const {
+  const ast::StoredDefinition *f = file(fileId);
+  if (!f)
+    return nullptr;
+  // The last definition wins, as in a file read top to bottom.
+  const ast::ClassDef *found = nullptr;
+  for (const auto &c : f->classes)
+    if (c->name == name)
+      found = c.get();
+  return found;
+}
+
+const ast::ClassDef *ClassTable::libraryPackage(const std::string &name) {
+  auto it = library_.find(name);
+  if (it != library_.end())
+    return it->second;
+  library_[name] = nullptr; // also guards against re-entry while parsing
+  if (name.empty() || name.front() == '\'' ||
+      name.find_first_of("/\\.") != std::string::npos)
+    return nullptr;
+  for (const std::string &dir : libraryPaths_) {
+    std::filesystem::path p = std::filesystem::path(dir) / (name + ".lsd");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(p, ec))
+      continue;
+    uint32_t id = sources_.loadFile(p.string());
+    if (id == 0)
+      continue;
+    auto def = parseFile(id, sources_, diags_);
+    if (!def)
+      return nullptr;
+    addFile(std::move(def));
+    const ast::ClassDef *cls = topLevel(id, name);
+    library_[name] = cls;
+    return cls;
+  }
+  return nullptr;
+}
+
+const ast::ClassDef *ClassTable::memberClass(const ast::ClassDef &cls,
+                                             const std::string &name) {
+  for (const auto &c : cls.classes)
+    if (c->name == name)
+      return c.get();
+  if (importDepth_ > 32)
+    return nullptr;
+  ++importDepth_;
+  const ast::ClassDef *found = nullptr;
+  for (const auto &ext : cls.extends) {
+    const ast::ClassDef *base =
+        resolveClass(ext.base, cls.parent, cls.file, /*report=*/false);
+    if (base && base != &cls && (found = memberClass(*base, name)))
+      break;
+  }
+  --importDepth_;
+  return found;
+}
+
+const ast::Component *ClassTable::memberComponent(const ast::ClassDef &cls,
+                                                  const std::string &name,
+                                                  const ast::ClassDef **owner) {
+  for (const auto &c : cls.components)
+    if (c.name == name) {
+      *owner = &cls;
+      return &c;
+    }
+  if (importDepth_ > 32)
+    return nullptr;
+  ++importDepth_;
+  const ast::Component *found = nullptr;
+  for (const auto &ext : cls.extends) {
+    const ast::ClassDef *base =
+        resolveClass(ext.base, cls.parent, cls.file, /*report=*/false);
+    if (base && base != &cls && (found = memberComponent(*base, name, owner)))
+      break;
+  }
+  --importDepth_;
+  return found;
+}
+
+LexicalHit ClassTable::lookupIn(const std::string &name,
+                                const ast::ClassDef &cls) {
+  if (const ast::ClassDef *c = memberClass(cls, name))
+    return {c, nullptr, nullptr};
+  const ast::ClassDef *owner = nullptr;
+  if (const ast::Component *comp = memberComponent(cls, name, &owner))
+    return {nullptr, comp, owner};
+  return {};
+}
+
+LexicalHit ClassTable::lookupImports(const std::string &name,
+                                     const ast::ClassDef &cls) {
+  if (importDepth_ > 32)
+    return {};
+  for (const ast::Import &imp : cls.imports) {
+    if (imp.path.empty())
+      continue;
+    ast::Name path;
+    path.parts = imp.path;
+    path.loc = imp.loc;
+    bool matches = imp.wildcard || (!imp.alias.empty() && imp.alias == name) ||
+                   (imp.alias.empty() && imp.names.empty() &&
+                    imp.path.back() == name) ||
+                   std::find(imp.names.begin(), imp.names.end(), name) !=
+                       imp.names.end();
+    if (!matches)
+      continue;
+    ++importDepth_;
+    // Import paths are always global: resolved from the file's top level.
+    const ast::ClassDef *target =
+        resolveClass(path, nullptr, cls.file, /*report=*/false);
+    --importDepth_;
+    if (!target)
+      continue;
+    if (imp.wildcard || !imp.names.empty()) {
+      LexicalHit hit = lookupIn(name, *target);
+      if (hit.cls || hit.comp)
+        return hit;
+      continue;
+    }
+    return {target, nullptr, nullptr};
+  }
+  return {};
+}
+
+LexicalHit ClassTable::lookup(const std::string &name,
+                              const ast::ClassDef *scope, uint32_t fileId) {
+  bool encapsulated = false;
+  for (const ast::ClassDef *c = scope; c; c = c->parent) {
+    LexicalHit hit = lookupIn(name, *c);
+    if (hit.cls || hit.comp)
+      return hit;
+    hit = lookupImports(name, *c);
+    if (hit.cls || hit.comp)
+      return hit;
+    if (c->encapsulated) {
+      encapsulated = true;
+      break;
+    }
+  }
+  if (!encapsulated)
+    if (const ast::ClassDef *top = topLevel(fileId, name))
+      return {top, nullptr, nullptr};
+  if (const ast::ClassDef *lib = libraryPackage(name))
+    return {lib, nullptr, nullptr};
+  return {};
+}
+
+void ClassTable::reportOnce(DiagId id, SourceRange range,
+                            std::vector<std::string> args) {
+  std::string key = std::to_string(static_cast<int>(id)) + ":" +
+                    std::to_string(range.begin.file) + ":" +
+                    std::to_string(range.begin.line) + ":" +
+                    std::to_string(range.begin.col);
+  for (const auto &a : args)
+    key += ":" + a;
+  if (reported_.insert(key).second)
+    diags_.report(id, range, std::move(args));
+}
+
+const ast::ClassDef *ClassTable::resolveClass(const ast::Name &name,
+                                              const ast::ClassDef *scope,
+                                              uint32_t fileId, bool report) {
+  if (name.parts.empty())
+    return nullptr;
+  LexicalHit hit = name.global ? LexicalHit{topLevel(fileId, name.parts[0])}
+                               : lookup(name.parts[0], scope, fileId);
+  if (!hit.cls && name.global)
+    hit.cls = libraryPackage(name.parts[0]);
+  const ast::ClassDef *cls = hit.cls;
+  if (!cls) {
+    if (report) {
+      std::vector<std::string> names;
+      visibleNames(scope, fileId, names);
+      std::string best = closestName(name.parts[0], names);
+      if (best.empty())
+        reportOnce(DiagId::ErrUndefinedClass,
+                      SourceRange{name.loc, name.length}, {name.parts[0]});
+      else
+        reportOnce(DiagId::ErrUndefinedClassSuggest,
+                      SourceRange{name.loc, name.length}, {name.parts[0], best});
+    }
+    return nullptr;
+  }
+  for (size_t i = 1; i < name.parts.size(); ++i) {
+    const ast::ClassDef *next = memberClass(*cls, name.parts[i]);
+    if (!next) {
+      if (report) {
+        std::vector<std::string> names;
+        for (const auto &c : cls->classes)
+          names.push_back(c->name);
+        std::string best = closestName(name.parts[i], names);
+        if (best.empty())
+          reportOnce(DiagId::ErrNoMemberClass,
+                        SourceRange{name.loc, name.length},
+                        {name.parts[i], cls->qualifiedName()});
+        else
+          reportOnce(DiagId::ErrNoMemberClassSuggest,
+                        SourceRange{name.loc, name.length},
+                        {name.parts[i], cls->qualifiedName(), best});
+      }
+      return nullptr;
+    }
+    cls = next;
+  }
+  return cls;
+}
+
+void ClassTable::visibleNames(const ast::ClassDef *scope, uint32_t fileId,
+                              std::vector<std::string> &out) const {
+  for (const ast::ClassDef *c = scope; c; c = c->parent) {
+    for (const auto &k : c->classes)
+      out.push_back(k->name);
+    for (const auto &comp : c->components)
+      out.push_back(comp.name);
+    for (const auto &imp : c->imports)
+      if (!imp.alias.empty())
+        out.push_back(imp.alias);
+      else if (!imp.path.empty() && !imp.wildcard)
+        out.push_back(imp.path.back());
+  }
+  if (const ast::StoredDefinition *f = file(fileId))
+    for (const auto &c : f->classes)
+      out.push_back(c->name);
+  for (const char *b : {"Real", "Integer", "Boolean", "String"})
+    out.push_back(b);
+  for (const auto &[name, cls] : library_)
+    if (cls)
+      out.push_back(name);
+  for (const std::string &dir : libraryPaths_) {
+    std::error_code ec;
+    for (const auto &entry : std::filesystem::directory_iterator(dir, ec))
+      if (entry.path().extension() == ".lsd")
+        out.push_back(entry.path().stem().string());
+  }
+}
+
+static size_t editDistance(const std::string &a, const std::string &b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j)
+    prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1,
+                         prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string closestName(const std::string &name,
+                        const std::vector<std::string> &candidates) {
+  std::string best;
+  size_t bestDist = std::max<size_t>(1, name.size() / 3) + 1;
+  for (const std::string &c : candidates) {
+    if (c == name || c.empty())
+      continue;
+    size_t d = editDistance(name, c);
+    if (d < bestDist || (d == bestDist && !best.empty() && c < best)) {
+      if (d < bestDist || c < best) {
+        bestDist = d;
+        best = c;
+      }
+    }
+  }
+  return best;
+}
+
+} // namespace ldae::frontend

@@ -1,0 +1,213 @@
+// connect(a, b) -> equations. Each connect pairs the scalar variables of two
+// connectors of the same structure; the pairs form connection sets:
+// potentials are equal (one equation per merge, so a set of n variables
+// gives n - 1), flows sum to zero with inside connectors counted positive
+// and outside ones (the enclosing model's own connectors) negative, and a
+// flow variable never connected from the inside is zero.
+#include "frontend/Flattener.h"
+
+#include <numeric>
+
+namespace ldae::frontend {
+namespace {
+
+/// Union-find with path halving over dense integer keys.
+struct UnionFind {
+  std::unordered_map<uint64_t, uint64_t> parent;
+  uint64_t find(uint64_t x) {
+    auto it = parent.find(x);
+    if (it == parent.end()) {
+      parent.emplace(x, x);
+      return x;
+    }
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  bool unite(uint64_t a, uint64_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b)
+      return false;
+    parent[b] = a;
+    return true;
+  }
+};
+
+std::string targetName(const RefTarget &t) {
+  if (t.slot < 0)
+    return t.node->path;
+  return elementName(t.node->path, t.node->dims, t.slot);
+}
+
+} // namespace
+
+void Flattener::addConnect(const ast::Equation &eq, const Scope &scope,
+                           Env *env) {
+  std::optional<Selection> a = selectComponents(*eq.lhs, scope, env);
+  std::optional<Selection> b = selectComponents(*eq.rhs, scope, env);
+  if (!a || !b)
+    return;
+  if (a->shape != b->shape || a->targets.size() != b->targets.size()) {
+    report(DiagId::ErrConnectSize, SourceRange{eq.loc, eq.length},
+           {describeShape(a->shape), describeShape(b->shape)});
+    return;
+  }
+  // `connect(p, r.p)` inside a model: `p` is the model's own connector,
+  // seen from the outside of the connection set.
+  bool aOutside = eq.lhs->parts.size() == 1;
+  bool bOutside = eq.rhs->parts.size() == 1;
+  for (size_t i = 0; i < a->targets.size(); ++i) {
+    for (const auto &[t, ref] : {std::pair{a->targets[i], eq.lhs.get()},
+                                 std::pair{b->targets[i], eq.rhs.get()}})
+      if (!t.node->isConnector) {
+        report(DiagId::ErrNotAConnector, SourceRange{ref->loc, ref->length},
+               {targetName(t), t.node->typeName});
+        return;
+      }
+    if (!pairConnectors(a->targets[i], b->targets[i], eq, scope, aOutside,
+                        bOutside)) {
+      report(DiagId::ErrConnectIncompatible, SourceRange{eq.loc, eq.length},
+             {targetName(a->targets[i]), a->targets[i].node->typeName,
+              targetName(b->targets[i]), b->targets[i].node->typeName});
+      return;
+    }
+  }
+}
+
+bool Flattener::pairConnectors(const RefTarget &a, const RefTarget &b,
+                               const ast::Equation &eq, const Scope &scope,
+                               bool aOutside, bool bOutside) {
+  InstNode *na = a.node, *nb = b.node;
+  if ((a.slot >= 0) != (b.slot >= 0))
+    return false;
+  if (a.slot >= 0) {
+    if (na->builtin != nb->builtin || na->flow != nb->flow)
+      return false;
+    const Slot &sa = na->slots[a.slot], &sb = nb->slots[b.slot];
+    if (sa.isParam || sb.isParam)
+      return sa.isParam == sb.isParam; // parameters are not connected
+    ConnectPair p;
+    p.a = sa.id;
+    p.b = sb.id;
+    p.flow = na->flow;
+    p.aOutside = aOutside;
+    p.bOutside = bOutside;
+    p.loc = eq.loc;
+    p.text = eq.text;
+    p.component = scope.inst ? scope.inst->path : "";
+    connectPairs_.push_back(std::move(p));
+    return true;
+  }
+  if (na->members.size() != nb->members.size())
+    return false;
+  for (auto &ma : na->members) {
+    auto it = nb->memberIndex.find(ma->name);
+    if (it == nb->memberIndex.end())
+      return false;
+    InstNode *mb = it->second;
+    if (ma->state != InstNode::State::Done || mb->state != InstNode::State::Done)
+      return false;
+    if (ma->dims != mb->dims || ma->isLeaf() != mb->isLeaf())
+      return false;
+    if (ma->isLeaf()) {
+      if (ma->slots.size() != mb->slots.size())
+        return false;
+      for (size_t i = 0; i < ma->slots.size(); ++i)
+        if (!pairConnectors({ma.get(), static_cast<int64_t>(i)},
+                            {mb, static_cast<int64_t>(i)}, eq, scope, aOutside,
+                            bOutside))
+          return false;
+    } else if (ma->isArray()) {
+      for (size_t i = 0; i < ma->elements.size(); ++i)
+        if (!pairConnectors({ma->elements[i].get(), -1},
+                            {mb->elements[i].get(), -1}, eq, scope, aOutside,
+                            bOutside))
+          return false;
+    } else if (!pairConnectors({ma.get(), -1}, {mb, -1}, eq, scope, aOutside,
+                               bOutside)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void Flattener::buildConnectionEquations() {
+  ir::ExprContext &c = ctx();
+  UnionFind potentials, flows;
+  auto key = [](ir::VarId v, bool outside) {
+    return (static_cast<uint64_t>(v) << 1) | (outside ? 1 : 0);
+  };
+  std::vector<bool> insideConnected(model_->variables.size(), false);
+  std::vector<uint64_t> flowOrder; // keys in order of first appearance
+  std::unordered_map<uint64_t, size_t> firstPair;
+  for (size_t i = 0; i < connectPairs_.size(); ++i) {
+    const ConnectPair &p = connectPairs_[i];
+    if (!p.flow) {
+      if (potentials.unite(p.a, p.b)) {
+        ir::Equation e;
+        e.residual = c.sub(c.var(p.a), c.var(p.b));
+        e.loc = p.loc;
+        e.component = p.component;
+        e.origin = ir::EquationOrigin::Connection;
+        e.text = p.text;
+        model_->equations.push_back(std::move(e));
+      }
+      continue;
+    }
+    for (auto [v, outside] : {std::pair{p.a, p.aOutside}, std::pair{p.b, p.bOutside}}) {
+      uint64_t k = key(v, outside);
+      if (!firstPair.count(k)) {
+        firstPair.emplace(k, i);
+        flowOrder.push_back(k);
+      }
+      if (!outside)
+        insideConnected[v] = true;
+    }
+    flows.unite(key(p.a, p.aOutside), key(p.b, p.bOutside));
+  }
+  // One sum per flow set, at the connect that started it.
+  std::unordered_map<uint64_t, std::vector<uint64_t>> members;
+  std::vector<uint64_t> roots;
+  for (uint64_t k : flowOrder) {
+    uint64_t r = flows.find(k);
+    auto &m = members[r];
+    if (m.empty())
+      roots.push_back(r);
+    m.push_back(k);
+  }
+  for (uint64_t r : roots) {
+    const auto &m = members[r];
+    std::vector<ir::ExprRef> terms;
+    size_t first = connectPairs_.size();
+    for (uint64_t k : m) {
+      ir::ExprRef v = c.var(static_cast<ir::VarId>(k >> 1));
+      terms.push_back((k & 1) ? c.neg(v) : v);
+      first = std::min(first, firstPair[k]);
+    }
+    const ConnectPair &p = connectPairs_[first];
+    ir::Equation e;
+    e.residual = c.add(terms);
+    e.loc = p.loc;
+    e.component = p.component;
+    e.origin = ir::EquationOrigin::FlowSum;
+    e.text = p.text;
+    model_->equations.push_back(std::move(e));
+  }
+  for (ir::VarId v : flowVars_) {
+    if (insideConnected[v])
+      continue;
+    const ir::Variable &var = model_->variables[v];
+    ir::Equation e;
+    e.residual = c.var(v);
+    e.loc = var.loc;
+    e.component = var.component;
+    e.origin = ir::EquationOrigin::UnconnectedFlow;
+    e.text = var.name + " = 0";
+    model_->equations.push_back(std::move(e));
+  }
+}
+
+} // namespace ldae::frontend

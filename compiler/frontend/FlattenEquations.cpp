@@ -1,0 +1,333 @@
+// Equations of the instance tree -> scalar residuals: array equations
+// element by element, for-equations unrolled, if-equations decided at
+// compile time when their conditions are parameter expressions (else each
+// equation becomes an if-expression residual, branches of equal size),
+// when-equations kept as ir::WhenClause, declaration bindings as equations.
+// Every equation keeps its location, component path and text.
+#include "frontend/Flattener.h"
+
+namespace ldae::frontend {
+
+void Flattener::addEquation(EqSink &sink, ir::ExprRef residual,
+                            const ast::Equation &eq, const Scope &scope) {
+  ir::Equation e;
+  e.residual = residual;
+  e.loc = eq.loc;
+  e.component = scope.inst ? scope.inst->path : "";
+  e.origin = sink.origin;
+  e.text = eq.text;
+  if (sink.when)
+    sink.when->equations.push_back(std::move(e));
+  else
+    sink.out->push_back(std::move(e));
+}
+
+void Flattener::flattenInstance(InstNode &node) {
+  if (node.state != InstNode::State::Done || overBudget())
+    return;
+  if (node.isLeaf()) {
+    if (node.binding)
+      flattenBinding(node);
+    return;
+  }
+  if (node.isArray()) {
+    for (auto &e : node.elements)
+      flattenInstance(*e);
+    return;
+  }
+  for (auto &m : node.members)
+    flattenInstance(*m);
+  for (const auto &[eq, cls] : node.equations) {
+    EqSink sink;
+    sink.out = &model_->equations;
+    flattenEquation(*eq, Scope{&node, cls}, nullptr, sink);
+  }
+  for (const auto &[eq, cls] : node.initialEquations) {
+    EqSink sink;
+    sink.out = &model_->initialEquations;
+    sink.origin = ir::EquationOrigin::Initial;
+    flattenEquation(*eq, Scope{&node, cls}, nullptr, sink);
+  }
+}
+
+void Flattener::flattenBinding(InstNode &leaf) {
+  const Mod &b = *leaf.binding;
+  std::optional<Value> v = lowerModValue(b);
+  if (!v)
+    return;
+  SourceRange where{b.loc, b.length};
+  if (v->isString) {
+    report(DiagId::ErrModifierType, where,
+           {"binding of '" + leaf.path + "'", "a number", "a string"});
+    return;
+  }
+  if (!v->shape.empty() && v->shape != leaf.dims) {
+    report(DiagId::ErrEquationShape, where,
+           {describeShape(leaf.dims), describeShape(v->shape)});
+    return;
+  }
+  for (size_t i = 0; i < leaf.slots.size(); ++i) {
+    ir::Equation e;
+    ir::ExprRef value = v->shape.empty() ? v->elems[0] : v->elems[i];
+    e.residual = ctx().sub(ctx().var(leaf.slots[i].id), value);
+    e.loc = b.loc;
+    e.component = leaf.parent ? leaf.parent->path : "";
+    e.origin = ir::EquationOrigin::Binding;
+    e.text = b.text.empty() ? leaf.decl->text : b.text;
+    model_->equations.push_back(std::move(e));
+  }
+}
+
+void Flattener::flattenEquation(const ast::Equation &eq, const Scope &scope,
+                                Env *env, EqSink &sink) {
+  if (overBudget())
+    return;
+  SourceRange where{eq.loc, eq.length};
+  switch (eq.kind) {
+  case ast::EquationKind::Simple: {
+    if (eq.lhs->kind == ast::ExprKind::Tuple) {
+      // (a, b) = f(x): one equation per named output.
+      if (eq.rhs->kind != ast::ExprKind::Call) {
+        report(DiagId::ErrMisplaced, where, {"(a, b)", "the left side of a call"});
+        return;
+      }
+      auto outs = lowerCallOutputs(*eq.rhs, scope, env);
+      if (!outs)
+        return;
+      if (eq.lhs->ops.size() > outs->size()) {
+        report(DiagId::ErrTooManyTargets, where,
+               {std::to_string(eq.lhs->ops.size()), std::to_string(outs->size())});
+        return;
+      }
+      for (size_t k = 0; k < eq.lhs->ops.size(); ++k) {
+        if (!eq.lhs->ops[k])
+          continue;
+        std::optional<Value> l = lower(*eq.lhs->ops[k], scope, env);
+        if (!l)
+          return;
+        const Value &r = (*outs)[k];
+        if (l->shape != r.shape || l->isString) {
+          report(DiagId::ErrEquationShape, where,
+                 {describeShape(l->shape), describeShape(r.shape)});
+          return;
+        }
+        for (size_t i = 0; i < l->elems.size(); ++i)
+          addEquation(sink, ctx().sub(l->elems[i], r.elems[i]), eq, scope);
+      }
+      return;
+    }
+    std::optional<Value> l = lower(*eq.lhs, scope, env);
+    std::optional<Value> r = lower(*eq.rhs, scope, env);
+    if (!l || !r)
+      return;
+    if (l->isString || r->isString) {
+      report(DiagId::ErrStringOperand, where, {"="});
+      return;
+    }
+    if (l->shape != r->shape) {
+      report(DiagId::ErrEquationShape, where,
+             {describeShape(l->shape), describeShape(r->shape)});
+      return;
+    }
+    for (size_t i = 0; i < l->elems.size(); ++i)
+      addEquation(sink, ctx().sub(l->elems[i], r->elems[i]), eq, scope);
+    return;
+  }
+  case ast::EquationKind::For: {
+    Env local{env, {}};
+    std::function<void(size_t)> loop = [&](size_t k) {
+      if (k == eq.iterators.size()) {
+        for (const ast::Equation &body : eq.branches[0])
+          flattenEquation(body, scope, &local, sink);
+        return;
+      }
+      auto values = iteratorValues(eq.iterators[k], scope, &local);
+      if (!values)
+        return;
+      for (double x : *values) {
+        local.set(eq.iterators[k].name, Value::scalar(ctx().constant(x)));
+        loop(k + 1);
+        if (overBudget())
+          return;
+      }
+    };
+    loop(0);
+    return;
+  }
+  case ast::EquationKind::Connect:
+    if (sink.when || sink.inVariableIf ||
+        sink.origin == ir::EquationOrigin::Initial) {
+      report(DiagId::ErrMisplaced, where,
+             {"connect", "equations outside when, initial and variable if"});
+      return;
+    }
+    addConnect(eq, scope, env);
+    return;
+  case ast::EquationKind::If:
+    flattenIf(eq, scope, env, sink);
+    return;
+  case ast::EquationKind::When:
+    flattenWhen(eq, scope, env, sink);
+    return;
+  case ast::EquationKind::Call:
+    flattenCallEquation(eq, scope, env, sink);
+    return;
+  }
+}
+
+void Flattener::flattenIf(const ast::Equation &eq, const Scope &scope,
+                          Env *env, EqSink &sink) {
+  // Conditions known at compile time pick their branch; the first
+  // condition on variables switches to residual merging.
+  std::vector<ir::ExprRef> conds; // null: the else branch
+  std::vector<const std::vector<ast::Equation> *> branches;
+  for (size_t k = 0; k < eq.conds.size(); ++k) {
+    const ast::Expr &ce = *eq.conds[k];
+    std::optional<Value> c = lower(ce, scope, env);
+    if (!c)
+      return;
+    if (!c->isScalar()) {
+      report(DiagId::ErrExpectedScalar, SourceRange{ce.loc, ce.length},
+             {"condition", describeShape(c->shape)});
+      return;
+    }
+    std::optional<double> known = constantValue(c->scalarExpr());
+    if (known && *known == 0)
+      continue;
+    if (known) {
+      conds.push_back(nullptr);
+      branches.push_back(&eq.branches[k]);
+      break;
+    }
+    conds.push_back(c->scalarExpr());
+    branches.push_back(&eq.branches[k]);
+  }
+  if (conds.empty() || conds.back() != nullptr) {
+    static const std::vector<ast::Equation> none;
+    conds.push_back(nullptr);
+    branches.push_back(eq.branches.size() > eq.conds.size() ? &eq.branches.back()
+                                                            : &none);
+  }
+  if (conds.size() == 1) {
+    for (const ast::Equation &body : *branches[0])
+      flattenEquation(body, scope, env, sink);
+    return;
+  }
+  if (sink.when) {
+    report(DiagId::ErrUnsupported, eq.loc,
+           {"if-equations on variables inside when-equations"});
+    return;
+  }
+  // Flatten every branch separately, then merge residual by residual.
+  std::vector<std::vector<ir::Equation>> results(branches.size());
+  for (size_t k = 0; k < branches.size(); ++k) {
+    EqSink sub = sink;
+    sub.out = &results[k];
+    sub.inVariableIf = true;
+    for (const ast::Equation &body : *branches[k])
+      flattenEquation(body, scope, env, sub);
+  }
+  for (size_t k = 1; k < results.size(); ++k)
+    if (results[k].size() != results[0].size()) {
+      report(DiagId::ErrIfBranchCount, SourceRange{eq.loc, 2},
+             {std::to_string(results[0].size()), std::to_string(results[k].size())});
+      return;
+    }
+  for (size_t i = 0; i < results[0].size(); ++i) {
+    ir::ExprRef r = results.back()[i].residual;
+    for (size_t k = results.size() - 1; k-- > 0;)
+      r = ctx().ifThenElse(conds[k], results[k][i].residual, r);
+    ir::Equation e = results[0][i];
+    e.residual = r;
+    e.text = eq.text;
+    e.loc = eq.loc;
+    sink.out->push_back(std::move(e));
+  }
+}
+
+void Flattener::flattenWhen(const ast::Equation &eq, const Scope &scope,
+                            Env *env, EqSink &sink) {
+  SourceRange where{eq.loc, 4};
+  if (sink.when || sink.inVariableIf ||
+      sink.origin == ir::EquationOrigin::Initial) {
+    report(DiagId::ErrMisplaced, where,
+           {"when", "equations outside when, initial and variable if"});
+    return;
+  }
+  // `elsewhen c2` fires when c2 does and no earlier condition is true.
+  ir::ExprRef earlier = nullptr;
+  for (size_t k = 0; k < eq.conds.size(); ++k) {
+    const ast::Expr &ce = *eq.conds[k];
+    std::optional<Value> c = lower(ce, scope, env);
+    if (!c)
+      return;
+    if (c->isString || c->elems.empty()) {
+      report(DiagId::ErrExpectedScalar, SourceRange{ce.loc, ce.length},
+             {"when-condition", "a string"});
+      return;
+    }
+    ir::ExprRef cond = ctx().logicalOr(c->elems);
+    ir::WhenClause clause;
+    clause.condition =
+        earlier ? ctx().logicalAnd(cond, ctx().logicalNot(earlier)) : cond;
+    clause.loc = k == 0 ? eq.loc : ce.loc;
+    earlier = earlier ? ctx().logicalOr(earlier, cond) : cond;
+    EqSink body;
+    body.when = &clause;
+    for (const ast::Equation &b : eq.branches[k])
+      flattenEquation(b, scope, env, body);
+    model_->whenClauses.push_back(std::move(clause));
+  }
+}
+
+void Flattener::flattenCallEquation(const ast::Equation &eq, const Scope &scope,
+                                    Env *env, EqSink &sink) {
+  const ast::Expr &call = *eq.lhs;
+  SourceRange where{eq.loc, eq.length};
+  const std::string &name = call.text;
+  if (name == "assert")
+    return; // run-time checks are not modelled; the model is unchanged
+  if (name == "terminate") {
+    report(DiagId::WarnIgnored, where, {"terminate"});
+    return;
+  }
+  if (name != "reinit") {
+    report(DiagId::ErrCallAsEquation, where, {name});
+    return;
+  }
+  if (!sink.when) {
+    report(DiagId::ErrMisplaced, where, {"reinit", "a when-equation"});
+    return;
+  }
+  if (call.args.size() != 2 || !call.args[0].name.empty()) {
+    report(DiagId::ErrCallArgCount, where,
+           {"reinit", "2", std::to_string(call.args.size())});
+    return;
+  }
+  std::optional<Value> target = lower(*call.args[0].value, scope, env);
+  std::optional<Value> value = lower(*call.args[1].value, scope, env);
+  if (!target || !value)
+    return;
+  if (target->isString || value->isString ||
+      (!value->shape.empty() && value->shape != target->shape)) {
+    report(DiagId::ErrEquationShape, where,
+           {describeShape(target->shape), describeShape(value->shape)});
+    return;
+  }
+  for (size_t i = 0; i < target->elems.size(); ++i) {
+    ir::ExprRef t = target->elems[i];
+    if (t->kind() != ir::ExprKind::Variable || t->order() != 0) {
+      report(DiagId::ErrReinitTarget, SourceRange{call.args[0].value->loc,
+                                                  call.args[0].value->length},
+             {});
+      return;
+    }
+    ir::Reinit r;
+    r.var = t->var();
+    r.value = value->shape.empty() ? value->elems[0] : value->elems[i];
+    r.loc = eq.loc;
+    sink.when->reinits.push_back(r);
+  }
+}
+
+} // namespace ldae::frontend

@@ -1,0 +1,89 @@
+// The flattening of one model, start to end: command-line parameter
+// overrides, the instance tree, equations, connection sets, and the checks
+// that need everything (unused overrides).
+#include "frontend/Flattener.h"
+
+#include <cstdlib>
+
+namespace ldae::frontend {
+
+Flattener::Flattener(ClassTable &classes, DiagnosticEngine &diags,
+                     const FrontendOptions &opts)
+    : classes_(classes), diags_(diags), opts_(opts) {}
+
+Flattener::~Flattener() = default;
+
+bool Flattener::overBudget() {
+  if (!model_)
+    return false;
+  size_t scalars = model_->variables.size() + model_->parameters.size() +
+                   model_->equations.size() + model_->initialEquations.size();
+  if (scalars <= kMaxScalars)
+    return false;
+  if (!budgetReported_) {
+    budgetReported_ = true;
+    report(DiagId::ErrModelTooLarge, model_->loc,
+           {std::to_string(kMaxScalars)});
+  }
+  return true;
+}
+
+std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
+  model_ = std::make_unique<ir::Model>();
+  model_->name = cls.name;
+  model_->loc = cls.loc;
+  diff_ = std::make_unique<ir::Differentiator>(model_->ctx());
+
+  for (const std::string &o : opts_.paramOverrides) {
+    size_t eq = o.find('=');
+    std::string name = eq == std::string::npos ? "" : o.substr(0, eq);
+    std::string text = eq == std::string::npos ? "" : o.substr(eq + 1);
+    while (!name.empty() && name.back() == ' ')
+      name.pop_back();
+    double value = 0;
+    char *end = nullptr;
+    if (text == "true")
+      value = 1;
+    else if (text == "false")
+      value = 0;
+    else
+      value = std::strtod(text.c_str(), &end);
+    bool ok = !name.empty() && !text.empty() &&
+              (text == "true" || text == "false" || (end && *end == '\0'));
+    if (!ok) {
+      report(DiagId::ErrBadOverride, SourceLoc{}, {o});
+      continue;
+    }
+    overrides_[name] = {value, false};
+  }
+
+  root_ = std::make_unique<InstNode>();
+  root_->name = cls.name;
+  root_->cls = &cls;
+  root_->typeName = cls.name;
+  root_->isConnector = cls.kind == ast::ClassKind::Connector;
+  root_->state = InstNode::State::Elaborating;
+  elaborateInstance(*root_);
+  root_->state = InstNode::State::Done;
+  readExperiment(cls, *root_);
+  flattenInstance(*root_);
+  buildConnectionEquations();
+
+  std::vector<std::string> paramNames;
+  for (const ir::Parameter &p : model_->parameters)
+    paramNames.push_back(p.name);
+  for (const auto &[name, entry] : overrides_) {
+    if (entry.second)
+      continue;
+    std::string best = closestName(name, paramNames);
+    if (best.empty())
+      report(DiagId::ErrUnknownOverride, SourceLoc{}, {name});
+    else
+      report(DiagId::ErrUnknownOverrideSuggest, SourceLoc{}, {name, best});
+  }
+  if (diags_.hasErrors())
+    return nullptr;
+  return std::move(model_);
+}
+
+} // namespace ldae::frontend

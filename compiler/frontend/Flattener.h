@@ -1,0 +1,334 @@
+// The flattener: turns the AST of the chosen model into an ir::Model. One
+// class holds the state of one compilation; its member functions live in
+// several files by responsibility:
+//   Lookup.cpp       names: component references, package constants, classes
+//   Instantiate.cpp  instance tree: extends, modifiers, types, arrays, parameters
+//   Lower.cpp        expressions -> IR (operators, arrays, reductions, builtins)
+//   Inline.cpp       user functions inlined at their calls
+//   FlattenEquations.cpp  equations incl. for/if/when, bindings
+//   Connections.cpp  connection sets -> equations
+// Errors are reported as they are found and evaluation continues where it
+// can, so one run reports several problems; results are then discarded.
+#pragma once
+
+#include "frontend/Ast.h"
+#include "frontend/ClassTable.h"
+#include "frontend/Frontend.h"
+#include "frontend/Value.h"
+#include "ir/Differentiate.h"
+#include "ir/Model.h"
+#include "support/Diagnostics.h"
+
+#include <functional>
+#include <map>
+#include <set>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace ldae::frontend {
+
+struct InstNode;
+
+/// Where an expression is evaluated: the instance whose components it sees
+/// (null inside functions and packages) and the class it is written in
+/// (for classes, package constants and imports).
+struct Scope {
+  InstNode *inst = nullptr;
+  const ast::ClassDef *cls = nullptr;
+};
+
+/// Local names: for-iterators, function inputs, outputs and locals.
+struct Env {
+  Env *parent = nullptr;
+  std::vector<std::pair<std::string, Value>> vars;
+
+  Value *find(const std::string &name);
+  void set(const std::string &name, Value v);
+};
+
+/// A modification merged from declarations, extends clauses and the
+/// instantiating component; outer ones win.
+struct Mod;
+using ModPtr = std::shared_ptr<const Mod>;
+struct Mod {
+  const ast::Expr *value = nullptr;
+  std::string text; // `name = value` as written, for binding equations
+  SourceLoc loc;
+  uint32_t length = 1;
+  Scope scope;                // where `value` is evaluated
+  std::vector<int64_t> index; // 1-based element of `value` to take
+  bool each = false;
+  std::vector<std::pair<std::string, ModPtr>> subs;
+
+  ModPtr sub(const std::string &name) const;
+};
+
+enum class BuiltinType { None, Real, Integer, Boolean, String };
+
+/// One scalar of a Real/Integer/Boolean component: a variable or parameter.
+struct Slot {
+  bool isParam = false;
+  uint32_t id = 0; // VarId or ParamId
+};
+
+/// One component instance (or the model itself at the root).
+struct InstNode {
+  std::string name; // as declared ("r1"); array elements "m[2]"
+  std::string path; // flat prefix ("c.r1", "m[2]"); "" for the root
+  InstNode *parent = nullptr;
+  const ast::Component *decl = nullptr;
+  const ast::ClassDef *declClass = nullptr; // class the declaration is in
+  ModPtr mod;
+
+  enum class State { Declared, Elaborating, Done, Failed };
+  State state = State::Declared;
+  bool membersReady = false; // class instance: members exist (may be unelaborated)
+
+  // Resolved type.
+  const ast::ClassDef *cls = nullptr; // long class of a class instance
+  BuiltinType builtin = BuiltinType::None;
+  std::string typeName;
+  bool isConnector = false;
+  bool flow = false;
+  ast::Variability variability = ast::Variability::Continuous;
+  ast::Causality causality = ast::Causality::None;
+  std::vector<int64_t> dims;
+
+  /// Component arrays: the elements, row-major.
+  std::vector<std::unique_ptr<InstNode>> elements;
+  /// Class instances: members in declaration order, inherited first.
+  std::vector<std::unique_ptr<InstNode>> members;
+  std::unordered_map<std::string, InstNode *> memberIndex;
+  /// Equations of the class instance with the class they are written in.
+  std::vector<std::pair<const ast::Equation *, const ast::ClassDef *>>
+      equations, initialEquations;
+  /// Builtin leaves: one slot per scalar element, row-major.
+  std::vector<Slot> slots;
+  /// Binding equation of a variable leaf (`Real e = expr`), if any.
+  ModPtr binding;
+
+  bool isArray() const { return !dims.empty(); }
+  bool isLeaf() const { return builtin != BuiltinType::None; }
+  bool isParameterLike() const {
+    return variability == ast::Variability::Parameter ||
+           variability == ast::Variability::Constant;
+  }
+};
+
+/// What a component reference denotes: values, or (for connect) components.
+struct RefTarget {
+  InstNode *node = nullptr; // class instance, or leaf with `slot`
+  int64_t slot = -1;
+};
+struct Selection {
+  std::vector<int64_t> shape;
+  std::vector<RefTarget> targets;
+};
+
+class Flattener {
+public:
+  Flattener(ClassTable &classes, DiagnosticEngine &diags,
+            const FrontendOptions &opts);
+  ~Flattener();
+
+  /// Flattens class `cls`; nullptr after errors.
+  std::unique_ptr<ir::Model> flatten(const ast::ClassDef &cls);
+
+  // ----- Lookup.cpp
+  /// The value of a component reference expression.
+  std::optional<Value> lowerRef(const ast::Expr &ref, const Scope &scope,
+                                Env *env);
+  /// The components a reference denotes (for connect).
+  std::optional<Selection> selectComponents(const ast::Expr &ref,
+                                            const Scope &scope, Env *env);
+  /// Suggestion text for an undefined name, "" if none is close.
+  std::string suggest(const std::string &name, const Scope &scope, Env *env);
+
+  // ----- Instantiate.cpp
+  bool ensureElaborated(InstNode &node, SourceLoc usedAt);
+
+  // ----- Lower.cpp
+  std::optional<Value> lower(const ast::Expr &e, const Scope &scope, Env *env);
+  /// `e` as a number known at compile time (parameters allowed);
+  /// `what` names the use in the error ("array size", "subscript").
+  std::optional<double> evalConstant(const ast::Expr &e, const Scope &scope,
+                                     Env *env, const std::string &what);
+  std::optional<int64_t> evalInteger(const ast::Expr &e, const Scope &scope,
+                                     Env *env, const std::string &what);
+  /// The numeric value of a lowered scalar that must not depend on
+  /// variables or time; nullopt if it does (nothing reported).
+  std::optional<double> constantValue(ir::ExprRef e);
+  /// The value of a modifier (its element `mod.index`); memoized.
+  std::optional<Value> lowerModValue(const Mod &mod);
+  /// `for` iterator ranges: the values of `range`, which must be constant.
+  std::optional<std::vector<double>> iteratorValues(const ast::ForIndex &it,
+                                                    const Scope &scope,
+                                                    Env *env);
+
+  // ----- Builtins.cpp
+  std::optional<Value> lowerCall(const ast::Expr &call, const Scope &scope,
+                                 Env *env);
+  /// Every output of a call (user functions; one value for built-ins).
+  std::optional<std::vector<Value>> lowerCallOutputs(const ast::Expr &call,
+                                                     const Scope &scope,
+                                                     Env *env);
+
+  /// Element-wise application; map2Value broadcasts scalars and reports
+  /// (at `where`, naming `op`) when the shapes disagree.
+  Value map1Value(const Value &a,
+                  const std::function<ir::ExprRef(ir::ExprRef)> &f);
+  std::optional<Value>
+  map2Value(const Value &a, const Value &b,
+            const std::function<ir::ExprRef(ir::ExprRef, ir::ExprRef)> &f,
+            const ast::Expr &where, const char *op);
+
+  // ----- Inline.cpp
+  std::optional<std::vector<Value>>
+  inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
+             const Scope &scope, Env *env);
+
+  /// Reports through the engine once per (diagnostic, location, text):
+  /// a class instantiated many times reports its error once.
+  Diagnostic &report(DiagId id, SourceRange range,
+                     std::vector<std::string> args = {});
+  Diagnostic &report(DiagId id, SourceLoc loc,
+                     std::vector<std::string> args = {}) {
+    return report(id, SourceRange{loc, 1}, std::move(args));
+  }
+
+  ir::ExprContext &ctx() { return model_->ctx(); }
+  ir::Model &model() { return *model_; }
+  DiagnosticEngine &diags() { return diags_; }
+  ClassTable &classes() { return classes_; }
+
+private:
+  friend class EquationFlattener;
+  friend class ConnectionBuilder;
+
+  // Instantiate.cpp
+  void elaborateInstance(InstNode &node);
+  void elaborateComponent(InstNode &node);
+  bool resolveType(InstNode &node);
+  void createLeafSlots(InstNode &node);
+  void createParameter(InstNode &node, const std::string &name,
+                       const ModPtr &mod);
+  void createVariable(InstNode &node, const std::string &name,
+                      const ModPtr &mod);
+  void checkModifiers(InstNode &node);
+  ModPtr makeMod(const ast::Modification *m, const Scope &scope);
+  void readExperiment(const ast::ClassDef &cls, InstNode &root);
+
+  // Inline.cpp
+  enum class ExecResult { Ok, Error };
+  ExecResult execStatements(const std::vector<ast::Statement> &list,
+                            const ast::ClassDef &fn, Env &env);
+  ExecResult execIf(const ast::Statement &st, size_t branch,
+                    const ast::ClassDef &fn, Env &env);
+  bool assign(const ast::Expr &target, Value value, const ast::ClassDef &fn,
+              Env &env);
+  size_t statementBudget_ = 0;
+
+  // FlattenEquations.cpp
+  /// Where flattened equations go: the model's equations or initial
+  /// equations, or the discrete assignments of a when-clause.
+  struct EqSink {
+    std::vector<ir::Equation> *out = nullptr;
+    ir::WhenClause *when = nullptr;
+    ir::EquationOrigin origin = ir::EquationOrigin::Declared;
+    bool inVariableIf = false;
+  };
+  void flattenInstance(InstNode &node);
+  void flattenBinding(InstNode &leaf);
+  void flattenEquation(const ast::Equation &eq, const Scope &scope, Env *env,
+                       EqSink &sink);
+  void flattenIf(const ast::Equation &eq, const Scope &scope, Env *env,
+                 EqSink &sink);
+  void flattenWhen(const ast::Equation &eq, const Scope &scope, Env *env,
+                   EqSink &sink);
+  void flattenCallEquation(const ast::Equation &eq, const Scope &scope,
+                           Env *env, EqSink &sink);
+  void addEquation(EqSink &sink, ir::ExprRef residual, const ast::Equation &eq,
+                   const Scope &scope);
+
+  // Connections.cpp
+  struct ConnectPair {
+    ir::VarId a = 0, b = 0;
+    bool flow = false;
+    bool aOutside = false, bOutside = false;
+    SourceLoc loc;
+    std::string text, component;
+  };
+  void addConnect(const ast::Equation &eq, const Scope &scope, Env *env);
+  bool pairConnectors(const RefTarget &a, const RefTarget &b,
+                      const ast::Equation &eq, const Scope &scope,
+                      bool aOutside, bool bOutside);
+  void buildConnectionEquations();
+  std::vector<ConnectPair> connectPairs_;
+  std::vector<ir::VarId> flowVars_; // flow variables of connectors
+
+  // Lookup.cpp
+  std::optional<Selection> resolveInstancePath(const ast::Expr &ref,
+                                               size_t firstPart,
+                                               InstNode *start,
+                                               const Scope &scope, Env *env);
+  std::optional<Value> packageConstant(const ast::Component &comp,
+                                       const ast::ClassDef &owner,
+                                       const ast::Expr &ref, size_t part,
+                                       const Scope &scope, Env *env);
+  /// Applies subscripts `subs` to an array of shape `dims`.
+  bool applySubscripts(const std::vector<ast::ExprPtr> &subs,
+                       const std::vector<int64_t> &dims, const std::string &what,
+                       const Scope &scope, Env *env,
+                       std::vector<int64_t> &outShape,
+                       std::vector<int64_t> &outOffsets, SourceLoc loc);
+
+public:
+  /// Limits against adversarial input (each reported once, then the
+  /// flattening stops adding): elements of one array, scalars in total,
+  /// inlining depth, instance nesting.
+  static constexpr int64_t kMaxArrayElements = 2'000'000;
+  static constexpr size_t kMaxScalars = 4'000'000;
+  static constexpr unsigned kMaxInlineDepth = 64;
+  static constexpr unsigned kMaxInstanceDepth = 64;
+
+  /// True once a size limit was hit: flattening stops producing.
+  bool overBudget();
+  /// Index of `d` in the end-of-dimension stack used by `end` in subscripts.
+  std::vector<int64_t> endStack;
+  unsigned inlineDepth = 0;
+  unsigned lowerDepth = 0;
+
+private:
+  ClassTable &classes_;
+  DiagnosticEngine &diags_;
+  const FrontendOptions &opts_;
+  std::unique_ptr<ir::Model> model_;
+  std::unique_ptr<ir::Differentiator> diff_;
+  std::unique_ptr<InstNode> root_;
+  std::map<std::string, std::pair<double, bool>> overrides_; // value, used
+  std::map<const ast::Component *, Value> packageConstants_;
+  std::map<const ast::Component *, bool> packageConstantBusy_;
+  std::map<std::tuple<const ast::Expr *, InstNode *, const ast::ClassDef *>,
+           Value>
+      modValueCache_;
+  bool budgetReported_ = false;
+  std::set<std::string> reported_;
+  Diagnostic dropped_;
+
+public:
+  ir::Differentiator &differentiator() { return *diff_; }
+  const std::vector<std::string> &attributeNames(BuiltinType t) const;
+};
+
+/// Flat name of element `index` (0-based, row-major) of an array of `dims`:
+/// `x[2]`, `A[1,3]`.
+std::string elementName(const std::string &base, const std::vector<int64_t> &dims,
+                        int64_t index);
+/// The 1-based subscripts of row-major `index`.
+std::vector<int64_t> elementSubscripts(const std::vector<int64_t> &dims,
+                                       int64_t index);
+
+} // namespace ldae::frontend

@@ -1,0 +1,41 @@
+// The frontend's public interface: an .lsd file in, a flat ir::Model out.
+// Parsing, name lookup, extends and modifiers, arrays, function inlining,
+// connection sets and equation flattening all happen behind compileFile.
+#pragma once
+
+#include "ir/Model.h"
+#include "support/Diagnostics.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ldae::frontend {
+
+struct FrontendOptions {
+  std::string modelName;                   // --model, empty = last non-partial
+  std::vector<std::string> paramOverrides; // "name=value"
+  std::vector<std::string> libraryPaths;   // default: LDAE_STDLIB_DIR
+};
+
+/// Parses, checks and flattens `path`; nullptr after reporting errors.
+std::unique_ptr<ir::Model> compileFile(const std::string &path,
+                                       const FrontendOptions &opts,
+                                       SourceManager &sources,
+                                       DiagnosticEngine &diags);
+
+/// Same for source text already in memory (tests, the fuzzer): registers
+/// `text` under the name `path`.
+std::unique_ptr<ir::Model> compileSource(const std::string &path,
+                                         std::string text,
+                                         const FrontendOptions &opts,
+                                         SourceManager &sources,
+                                         DiagnosticEngine &diags);
+
+/// Equation/unknown count check. Reports how many of each and which
+/// components they come from; as errors when `asError`, else warnings.
+/// Returns true if balanced.
+bool checkBalance(const ir::Model &model, DiagnosticEngine &diags,
+                  bool asError);
+
+} // namespace ldae::frontend

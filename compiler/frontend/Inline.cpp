@@ -1,0 +1,396 @@
+// User functions are inlined at their calls: the body runs symbolically
+// over IR expressions. Inputs take the argument values (or their defaults),
+// each assignment rebinds a local, an if-statement whose condition depends
+// on variables runs both branches and merges every local with an
+// if-expression, and for-loops over constant ranges unroll. The outputs'
+// final expressions are the call's values.
+#include "frontend/Flattener.h"
+
+#include <cmath>
+
+namespace ldae::frontend {
+namespace {
+
+constexpr size_t kMaxStatements = 1'000'000; // per top-level inline
+constexpr unsigned kMaxWhileIterations = 100'000;
+
+struct InlineDepth {
+  unsigned &depth;
+  explicit InlineDepth(unsigned &d) : depth(++d) {}
+  ~InlineDepth() { --depth; }
+};
+
+bool isInput(const ast::Component &c) {
+  return c.prefix.causality == ast::Causality::Input;
+}
+bool isOutput(const ast::Component &c) {
+  return c.prefix.causality == ast::Causality::Output;
+}
+
+} // namespace
+
+std::optional<std::vector<Value>>
+Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
+                      const Scope &scope, Env *env) {
+  SourceRange where{call.loc, call.length};
+  if (inlineDepth == 0)
+    statementBudget_ = 0;
+  InlineDepth depth(inlineDepth);
+  if (inlineDepth > kMaxInlineDepth) {
+    report(DiagId::ErrInlineTooDeep, where,
+           {fn.name, std::to_string(kMaxInlineDepth)});
+    return std::nullopt;
+  }
+  if (fn.isExternal) {
+    report(DiagId::ErrUnsupported, where, {"external function '" + fn.name + "'"});
+    return std::nullopt;
+  }
+  if (!fn.extends.empty()) {
+    report(DiagId::ErrUnsupported, fn.extends[0].loc, {"'extends' in functions"});
+    return std::nullopt;
+  }
+  std::vector<const ast::Component *> inputs;
+  for (const ast::Component &c : fn.components)
+    if (isInput(c))
+      inputs.push_back(&c);
+
+  // Match the arguments to inputs: positional first, then by name.
+  std::vector<const ast::Expr *> bound(inputs.size(), nullptr);
+  size_t positional = 0;
+  for (const ast::Arg &a : call.args) {
+    if (a.name.empty()) {
+      if (positional >= inputs.size()) {
+        report(DiagId::ErrCallArgCount, where,
+               {fn.name, std::to_string(inputs.size()),
+                std::to_string(call.args.size())});
+        return std::nullopt;
+      }
+      bound[positional++] = a.value.get();
+      continue;
+    }
+    size_t k = 0;
+    while (k < inputs.size() && inputs[k]->name != a.name)
+      ++k;
+    if (k == inputs.size()) {
+      std::vector<std::string> names;
+      for (const auto *in : inputs)
+        names.push_back(in->name);
+      std::string best = closestName(a.name, names);
+      if (best.empty())
+        report(DiagId::ErrNoSuchInput, SourceRange{a.value->loc, a.value->length},
+               {fn.name, a.name});
+      else
+        report(DiagId::ErrNoSuchInputSuggest,
+               SourceRange{a.value->loc, a.value->length}, {fn.name, a.name, best});
+      return std::nullopt;
+    }
+    if (bound[k]) {
+      report(DiagId::ErrArgumentTwice, SourceRange{a.value->loc, a.value->length},
+             {a.name, fn.name});
+      return std::nullopt;
+    }
+    bound[k] = a.value.get();
+  }
+
+  Env fenv; // a function sees its own names only, never the caller's
+  for (const ast::Component &c : fn.components) {
+    if (c.typeName.parts.size() != 1 ||
+        (c.typeName.parts[0] != "Real" && c.typeName.parts[0] != "Integer" &&
+         c.typeName.parts[0] != "Boolean")) {
+      report(DiagId::ErrUnsupported, c.typeName.loc,
+             {"function variables of type '" + c.typeName.str() + "'"});
+      return std::nullopt;
+    }
+  }
+  size_t inputIndex = 0;
+  for (const ast::Component &c : fn.components) {
+    Scope fscope{nullptr, &fn};
+    std::optional<Value> value;
+    if (isInput(c)) {
+      const ast::Expr *arg = bound[inputIndex++];
+      if (arg) {
+        value = lower(*arg, scope, env);
+        if (!value)
+          return std::nullopt;
+        if (value->isString) {
+          report(DiagId::ErrArgumentType, SourceRange{arg->loc, arg->length},
+                 {c.name, fn.name, "a number", "a string"});
+          return std::nullopt;
+        }
+        // Declared sizes: `:` takes the argument's size.
+        bool ok = value->shape.size() == c.dims.size();
+        for (size_t k = 0; ok && k < c.dims.size(); ++k) {
+          if (c.dims[k]->kind == ast::ExprKind::Colon)
+            continue;
+          std::optional<int64_t> n = evalInteger(*c.dims[k], fscope, &fenv,
+                                                 "array size of '" + c.name + "'");
+          if (!n)
+            return std::nullopt;
+          ok = *n == value->shape[k];
+        }
+        if (!ok) {
+          std::vector<int64_t> declared;
+          for (const auto &d : c.dims)
+            declared.push_back(d->kind == ast::ExprKind::Colon ? 0 : -1);
+          report(DiagId::ErrArgumentType, SourceRange{arg->loc, arg->length},
+                 {c.name, fn.name,
+                  c.dims.empty() ? "a scalar"
+                                 : "an array of " + std::to_string(c.dims.size()) +
+                                       " dimension(s)",
+                  describeShape(value->shape)});
+          return std::nullopt;
+        }
+      } else if (c.mod && c.mod->value) {
+        value = lower(*c.mod->value, fscope, &fenv);
+        if (!value)
+          return std::nullopt;
+      } else {
+        report(DiagId::ErrMissingArgument, where, {c.name, fn.name});
+        return std::nullopt;
+      }
+    } else {
+      // Outputs and locals: unassigned (null) until the body assigns them.
+      Value v;
+      for (const auto &d : c.dims) {
+        if (d->kind == ast::ExprKind::Colon) {
+          report(DiagId::ErrUnsupported, d->loc,
+                 {"function outputs of unknown size"});
+          return std::nullopt;
+        }
+        std::optional<int64_t> n =
+            evalInteger(*d, fscope, &fenv, "array size of '" + c.name + "'");
+        if (!n || *n < 0 || *n > kMaxArrayElements)
+          return std::nullopt;
+        v.shape.push_back(*n);
+      }
+      int64_t count = 1;
+      for (int64_t n : v.shape)
+        count *= n;
+      v.elems.assign(count, nullptr);
+      if (c.mod && c.mod->value) {
+        std::optional<Value> init = lower(*c.mod->value, fscope, &fenv);
+        if (!init)
+          return std::nullopt;
+        if (init->shape != v.shape || init->isString) {
+          report(DiagId::ErrShapeMismatch, c.mod->value->loc,
+                 {":=", describeShape(v.shape), describeShape(init->shape)});
+          return std::nullopt;
+        }
+        v = *init;
+      }
+      value = v;
+    }
+    fenv.set(c.name, std::move(*value));
+  }
+  if (execStatements(fn.algorithm, fn, fenv) != ExecResult::Ok)
+    return std::nullopt;
+  std::vector<Value> outputs;
+  for (const ast::Component &c : fn.components) {
+    if (!isOutput(c))
+      continue;
+    Value *v = fenv.find(c.name);
+    for (ir::ExprRef e : v->elems)
+      if (!e) {
+        Diagnostic &d =
+            report(DiagId::ErrOutputNotAssigned, where, {c.name, fn.name});
+        DiagnosticEngine::addNote(d, c.loc, DiagId::NoteDeclaredHere, {c.name});
+        return std::nullopt;
+      }
+    outputs.push_back(*v);
+  }
+  return outputs;
+}
+
+bool Flattener::assign(const ast::Expr &target, Value value,
+                       const ast::ClassDef &fn, Env &env) {
+  SourceRange where{target.loc, target.length};
+  if (target.kind != ast::ExprKind::Ref || target.parts.size() != 1) {
+    report(DiagId::ErrBadAssignTarget, where, {});
+    return false;
+  }
+  const std::string &name = target.parts[0].name;
+  Value *slot = env.find(name);
+  if (!slot) {
+    std::string best = suggest(name, Scope{nullptr, &fn}, &env);
+    if (best.empty())
+      report(DiagId::ErrUndefinedName, where, {name});
+    else
+      report(DiagId::ErrUndefinedNameSuggest, where, {name, best});
+    return false;
+  }
+  for (const ast::Component &c : fn.components)
+    if (c.name == name && isInput(c)) {
+      report(DiagId::ErrAssignInput, where, {name});
+      return false;
+    }
+  if (value.isString) {
+    report(DiagId::ErrStringOperand, where, {":="});
+    return false;
+  }
+  const auto &subs = target.parts[0].subscripts;
+  if (subs.empty()) {
+    if (value.shape != slot->shape) {
+      if (!value.shape.empty()) {
+        report(DiagId::ErrShapeMismatch, where,
+               {":=", describeShape(slot->shape), describeShape(value.shape)});
+        return false;
+      }
+      // A scalar fills the array.
+      std::fill(slot->elems.begin(), slot->elems.end(), value.elems[0]);
+      return true;
+    }
+    *slot = std::move(value);
+    return true;
+  }
+  std::vector<int64_t> shape, offsets;
+  std::vector<int64_t> dims = slot->shape;
+  if (!applySubscripts(subs, dims, name, Scope{nullptr, &fn}, &env, shape,
+                       offsets, target.loc))
+    return false;
+  slot = env.find(name); // lowering subscripts may not move it, but be safe
+  if (!value.shape.empty() && value.elems.size() != offsets.size()) {
+    report(DiagId::ErrShapeMismatch, where,
+           {":=", describeShape(shape), describeShape(value.shape)});
+    return false;
+  }
+  for (size_t i = 0; i < offsets.size(); ++i)
+    slot->elems[offsets[i]] = value.shape.empty() ? value.elems[0] : value.elems[i];
+  return true;
+}
+
+Flattener::ExecResult Flattener::execIf(const ast::Statement &st, size_t branch,
+                                        const ast::ClassDef &fn, Env &env) {
+  Scope fscope{nullptr, &fn};
+  if (branch == st.conds.size()) {
+    if (branch < st.branches.size())
+      return execStatements(st.branches[branch], fn, env);
+    return ExecResult::Ok;
+  }
+  const ast::Expr &condExpr = *st.conds[branch];
+  std::optional<Value> cond = lower(condExpr, fscope, &env);
+  if (!cond)
+    return ExecResult::Error;
+  if (!cond->isScalar()) {
+    report(DiagId::ErrExpectedScalar, SourceRange{condExpr.loc, condExpr.length},
+           {"condition", describeShape(cond->shape)});
+    return ExecResult::Error;
+  }
+  if (std::optional<double> known = constantValue(cond->scalarExpr())) {
+    if (*known != 0)
+      return execStatements(st.branches[branch], fn, env);
+    return execIf(st, branch + 1, fn, env);
+  }
+  // A condition on variables: both ways, merged element by element.
+  Env thenEnv = env, elseEnv = env;
+  if (execStatements(st.branches[branch], fn, thenEnv) != ExecResult::Ok ||
+      execIf(st, branch + 1, fn, elseEnv) != ExecResult::Ok)
+    return ExecResult::Error;
+  ir::ExprRef c = cond->scalarExpr();
+  for (size_t k = 0; k < env.vars.size(); ++k) {
+    Value &out = env.vars[k].second;
+    const Value &a = thenEnv.vars[k].second, &b = elseEnv.vars[k].second;
+    for (size_t i = 0; i < out.elems.size(); ++i) {
+      ir::ExprRef x = a.elems[i], y = b.elems[i];
+      out.elems[i] = x == y ? x : (x && y ? ctx().ifThenElse(c, x, y) : nullptr);
+    }
+  }
+  return ExecResult::Ok;
+}
+
+Flattener::ExecResult
+Flattener::execStatements(const std::vector<ast::Statement> &list,
+                          const ast::ClassDef &fn, Env &env) {
+  Scope fscope{nullptr, &fn};
+  for (const ast::Statement &st : list) {
+    if (++statementBudget_ > kMaxStatements) {
+      report(DiagId::ErrLoopTooLong, st.loc, {fn.name});
+      return ExecResult::Error;
+    }
+    SourceRange where{st.loc, st.length};
+    switch (st.kind) {
+    case ast::StatementKind::Assign: {
+      std::optional<Value> v = lower(*st.rhs, fscope, &env);
+      if (!v || !assign(*st.lhs, std::move(*v), fn, env))
+        return ExecResult::Error;
+      break;
+    }
+    case ast::StatementKind::TupleAssign: {
+      auto outs = lowerCallOutputs(*st.rhs, fscope, &env);
+      if (!outs)
+        return ExecResult::Error;
+      if (st.targets.size() > outs->size()) {
+        report(DiagId::ErrTooManyTargets, where,
+               {std::to_string(st.targets.size()), std::to_string(outs->size())});
+        return ExecResult::Error;
+      }
+      for (size_t k = 0; k < st.targets.size(); ++k)
+        if (st.targets[k] && !assign(*st.targets[k], (*outs)[k], fn, env))
+          return ExecResult::Error;
+      break;
+    }
+    case ast::StatementKind::Call:
+      if (st.rhs->text == "assert")
+        break; // checks at run time are not modelled; the model is unchanged
+      report(DiagId::ErrUnsupported, where,
+             {"calling '" + st.rhs->text + "' as a statement"});
+      return ExecResult::Error;
+    case ast::StatementKind::If:
+      if (execIf(st, 0, fn, env) != ExecResult::Ok)
+        return ExecResult::Error;
+      break;
+    case ast::StatementKind::For: {
+      std::function<bool(size_t)> loop = [&](size_t k) -> bool {
+        if (k == st.iterators.size())
+          return execStatements(st.branches[0], fn, env) == ExecResult::Ok;
+        auto values = iteratorValues(st.iterators[k], fscope, &env);
+        if (!values)
+          return false;
+        for (double x : *values) {
+          env.set(st.iterators[k].name, Value::scalar(ctx().constant(x)));
+          if (!loop(k + 1))
+            return false;
+        }
+        return true;
+      };
+      if (!loop(0))
+        return ExecResult::Error;
+      break;
+    }
+    case ast::StatementKind::While: {
+      for (unsigned iter = 0;; ++iter) {
+        if (iter > kMaxWhileIterations) {
+          report(DiagId::ErrLoopTooLong, where, {fn.name});
+          return ExecResult::Error;
+        }
+        std::optional<Value> cond = lower(*st.conds[0], fscope, &env);
+        if (!cond)
+          return ExecResult::Error;
+        std::optional<double> known =
+            cond->isScalar() ? constantValue(cond->scalarExpr()) : std::nullopt;
+        if (!known) {
+          report(DiagId::ErrNotParameterExpr,
+                 SourceRange{st.conds[0]->loc, st.conds[0]->length},
+                 {"a while-condition"});
+          return ExecResult::Error;
+        }
+        if (*known == 0)
+          break;
+        if (execStatements(st.branches[0], fn, env) != ExecResult::Ok)
+          return ExecResult::Error;
+      }
+      break;
+    }
+    case ast::StatementKind::When:
+      report(DiagId::ErrMisplaced, where, {"when", "a model's equations"});
+      return ExecResult::Error;
+    case ast::StatementKind::Break:
+    case ast::StatementKind::Return:
+      report(DiagId::ErrUnsupported, where,
+             {st.kind == ast::StatementKind::Break ? "'break'" : "'return'"});
+      return ExecResult::Error;
+    }
+  }
+  return ExecResult::Ok;
+}
+
+} // namespace ldae::frontend

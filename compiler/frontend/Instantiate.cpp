@@ -1,0 +1,648 @@
+// The instance tree: every component of the model with its type resolved,
+// its modifiers merged (the instantiating component over `extends`
+// modifiers over the declaration over the type), its array sizes evaluated
+// and, for Real/Integer/Boolean leaves, its scalars created as IR variables
+// or parameters. Elaboration is on demand, so a declaration may use a
+// parameter declared after it; a real cycle is an error.
+#include "frontend/Flattener.h"
+
+#include <cmath>
+
+namespace ldae::frontend {
+
+ModPtr Mod::sub(const std::string &name) const {
+  for (const auto &[n, m] : subs)
+    if (n == name)
+      return m;
+  return nullptr;
+}
+
+namespace {
+
+/// `outer` over `inner`: outer's value wins; sub-modifiers merge by name.
+ModPtr mergeMods(const ModPtr &outer, const ModPtr &inner) {
+  if (!outer)
+    return inner;
+  if (!inner)
+    return outer;
+  auto m = std::make_shared<Mod>(*outer);
+  if (!m->value) {
+    m->value = inner->value;
+    m->text = inner->text;
+    m->loc = inner->loc;
+    m->length = inner->length;
+    m->scope = inner->scope;
+    m->index = inner->index;
+    m->each = inner->each;
+  }
+  for (const auto &[name, sub] : inner->subs) {
+    bool found = false;
+    for (auto &[n, s] : m->subs)
+      if (n == name) {
+        s = mergeMods(s, sub);
+        found = true;
+      }
+    if (!found)
+      m->subs.emplace_back(name, sub);
+  }
+  return m;
+}
+
+/// The modifier seen by element `subs` (1-based) of an array: values not
+/// marked `each` are indexed.
+ModPtr indexMod(const ModPtr &mod, const std::vector<int64_t> &subs) {
+  if (!mod || mod->each)
+    return mod;
+  auto m = std::make_shared<Mod>(*mod);
+  if (m->value)
+    m->index.insert(m->index.end(), subs.begin(), subs.end());
+  for (auto &[name, sub] : m->subs)
+    sub = indexMod(sub, subs);
+  return m;
+}
+
+BuiltinType builtinNamed(const ast::Name &n) {
+  if (n.parts.size() != 1)
+    return BuiltinType::None;
+  const std::string &s = n.parts[0];
+  if (s == "Real")
+    return BuiltinType::Real;
+  if (s == "Integer")
+    return BuiltinType::Integer;
+  if (s == "Boolean")
+    return BuiltinType::Boolean;
+  if (s == "String")
+    return BuiltinType::String;
+  return BuiltinType::None;
+}
+
+std::string joinPath(const std::string &prefix, const std::string &name) {
+  return prefix.empty() ? name : prefix + "." + name;
+}
+
+} // namespace
+
+const std::vector<std::string> &
+Flattener::attributeNames(BuiltinType t) const {
+  static const std::vector<std::string> real = {
+      "start",    "fixed",       "nominal",     "min", "max", "unit",
+      "quantity", "displayUnit", "stateSelect", "unbounded"};
+  static const std::vector<std::string> integer = {"start", "fixed", "min",
+                                                   "max", "quantity"};
+  static const std::vector<std::string> boolean = {"start", "fixed",
+                                                   "quantity"};
+  static const std::vector<std::string> string = {"start", "quantity"};
+  switch (t) {
+  case BuiltinType::Real:
+    return real;
+  case BuiltinType::Integer:
+    return integer;
+  case BuiltinType::Boolean:
+    return boolean;
+  default:
+    return string;
+  }
+}
+
+ModPtr Flattener::makeMod(const ast::Modification *m, const Scope &scope) {
+  if (!m)
+    return nullptr;
+  auto mod = std::make_shared<Mod>();
+  mod->value = m->value.get();
+  mod->scope = scope;
+  mod->loc = m->value ? m->value->loc : m->loc;
+  mod->length = m->value ? m->value->length : 1;
+  for (const ast::Modifier &arg : m->args) {
+    if (arg.path.empty())
+      continue;
+    // `a.b.c = v` is `a(b(c = v))`.
+    ModPtr leaf = makeMod(arg.mod.get(), scope);
+    auto inner = leaf ? std::make_shared<Mod>(*leaf) : std::make_shared<Mod>();
+    inner->each = arg.each;
+    inner->text = arg.text;
+    inner->scope = scope;
+    if (!inner->value) {
+      inner->loc = arg.loc;
+      inner->length = arg.length;
+    }
+    ModPtr node = inner;
+    for (size_t k = arg.path.size() - 1; k > 0; --k) {
+      auto wrap = std::make_shared<Mod>();
+      wrap->loc = arg.loc;
+      wrap->scope = scope;
+      wrap->subs.emplace_back(arg.path[k], node);
+      node = wrap;
+    }
+    bool merged = false;
+    for (auto &[n, s] : mod->subs)
+      if (n == arg.path[0]) {
+        s = mergeMods(node, s);
+        merged = true;
+      }
+    if (!merged)
+      mod->subs.emplace_back(arg.path[0], node);
+  }
+  return mod;
+}
+
+bool Flattener::ensureElaborated(InstNode &node, SourceLoc usedAt) {
+  switch (node.state) {
+  case InstNode::State::Done:
+    return true;
+  case InstNode::State::Failed:
+    return false;
+  case InstNode::State::Elaborating:
+    if (node.membersReady)
+      return true;
+    report(DiagId::ErrCyclicDefinition, usedAt,
+                  {node.path.empty() ? node.name : node.path});
+    return false;
+  case InstNode::State::Declared:
+    break;
+  }
+  elaborateComponent(node);
+  return node.state == InstNode::State::Done;
+}
+
+bool Flattener::resolveType(InstNode &node) {
+  const ast::Component &d = *node.decl;
+  node.typeName = d.typeName.str();
+  const ast::ClassDef *scope = node.declClass;
+  uint32_t file = node.declClass ? node.declClass->file : d.loc.file;
+  ast::Name cur = d.typeName;
+  std::vector<ModPtr> typeMods;
+  std::vector<int64_t> typeDims;
+  for (unsigned depth = 0;; ++depth) {
+    if (depth > 32) {
+      report(DiagId::ErrRecursiveType, d.typeName.loc, {node.typeName});
+      return false;
+    }
+    if (!cur.global)
+      if (BuiltinType b = builtinNamed(cur); b != BuiltinType::None) {
+        node.builtin = b;
+        break;
+      }
+    const ast::ClassDef *cls = classes_.resolveClass(cur, scope, file);
+    if (!cls)
+      return false;
+    if (cls->kind == ast::ClassKind::Connector)
+      node.isConnector = true;
+    if (cls->isEnumeration) {
+      report(DiagId::ErrUnsupported, d.typeName.loc,
+                    {"enumeration types"});
+      return false;
+    }
+    if (!cls->isShort) {
+      if (cls->kind == ast::ClassKind::Function ||
+          cls->kind == ast::ClassKind::Package ||
+          cls->kind == ast::ClassKind::Operator) {
+        report(DiagId::ErrNotAType, d.typeName.loc,
+                      {node.typeName, ast::classKindName(cls->kind)});
+        return false;
+      }
+      node.cls = cls;
+      break;
+    }
+    Scope typeScope{nullptr, cls->parent};
+    if (cls->shortMod)
+      typeMods.push_back(makeMod(cls->shortMod.get(), typeScope));
+    for (const auto &dim : cls->shortDims) {
+      std::optional<int64_t> n =
+          evalInteger(*dim, typeScope, nullptr, "array size of '" + cls->name + "'");
+      if (!n)
+        return false;
+      typeDims.push_back(*n);
+    }
+    if (node.causality == ast::Causality::None)
+      node.causality = cls->shortPrefix.causality;
+    scope = cls->parent;
+    file = cls->file;
+    cur = cls->shortBase;
+  }
+  ModPtr typeMod;
+  for (auto it = typeMods.rbegin(); it != typeMods.rend(); ++it)
+    typeMod = mergeMods(*it, typeMod);
+  node.mod = mergeMods(node.mod, typeMod);
+  node.dims.insert(node.dims.end(), typeDims.begin(), typeDims.end());
+  return true;
+}
+
+void Flattener::elaborateComponent(InstNode &node) {
+  node.state = InstNode::State::Elaborating;
+  const ast::Component &d = *node.decl;
+  node.flow = d.prefix.flow || (node.parent && node.parent->flow);
+  node.variability = d.prefix.variability;
+  if (node.parent && node.parent->isParameterLike() &&
+      !node.isParameterLike())
+    node.variability = node.parent->variability;
+  node.causality = d.prefix.causality;
+
+  // Array sizes are evaluated where the declaration is written.
+  Scope declScope{node.parent, node.declClass};
+  for (const auto &dim : d.dims) {
+    if (dim->kind == ast::ExprKind::Colon) {
+      report(DiagId::ErrArraySizeMissing, dim->loc, {d.name});
+      node.state = InstNode::State::Failed;
+      return;
+    }
+    std::optional<int64_t> n =
+        evalInteger(*dim, declScope, nullptr, "array size of '" + d.name + "'");
+    if (!n) {
+      node.state = InstNode::State::Failed;
+      return;
+    }
+    node.dims.push_back(*n);
+  }
+  if (!resolveType(node)) {
+    node.state = InstNode::State::Failed;
+    return;
+  }
+  int64_t count = 1;
+  for (int64_t n : node.dims) {
+    if (n < 0) {
+      report(DiagId::ErrNegativeArraySize, d.loc,
+                    {d.name, std::to_string(n)});
+      node.state = InstNode::State::Failed;
+      return;
+    }
+    count = n == 0 ? 0 : count;
+    if (count > 0 && n > kMaxArrayElements / count) {
+      report(DiagId::ErrArrayTooLarge, d.loc,
+                    {d.name, std::to_string(kMaxArrayElements)});
+      node.state = InstNode::State::Failed;
+      return;
+    }
+    count *= n;
+  }
+  if (overBudget()) {
+    node.state = InstNode::State::Failed;
+    return;
+  }
+
+  if (node.isLeaf()) {
+    checkModifiers(node);
+    createLeafSlots(node);
+    node.state = InstNode::State::Done;
+    return;
+  }
+
+  // A class instance: guard against a class containing itself.
+  unsigned depth = 0;
+  for (InstNode *a = node.parent; a; a = a->parent, ++depth)
+    if (a->cls == node.cls || depth > kMaxInstanceDepth) {
+      report(DiagId::ErrRecursiveComponent, d.loc,
+                    {d.name, node.typeName});
+      node.state = InstNode::State::Failed;
+      return;
+    }
+  if (node.mod && node.mod->value) {
+    report(DiagId::ErrUnsupported, node.mod->loc,
+                  {"a value for a component of type '" + node.typeName + "'"});
+    node.state = InstNode::State::Failed;
+    return;
+  }
+  if (node.isArray()) {
+    node.elements.reserve(count);
+    for (int64_t i = 0; i < count; ++i) {
+      auto elem = std::make_unique<InstNode>();
+      std::vector<int64_t> subs = elementSubscripts(node.dims, i);
+      elem->name = elementName(node.name, node.dims, i);
+      elem->path = elementName(node.path, node.dims, i);
+      elem->parent = node.parent;
+      elem->decl = node.decl;
+      elem->declClass = node.declClass;
+      elem->mod = indexMod(node.mod, subs);
+      elem->cls = node.cls;
+      elem->typeName = node.typeName;
+      elem->isConnector = node.isConnector;
+      elem->flow = node.flow;
+      elem->variability = node.variability;
+      elem->causality = node.causality;
+      elem->state = InstNode::State::Elaborating;
+      elaborateInstance(*elem);
+      elem->state = InstNode::State::Done;
+      node.elements.push_back(std::move(elem));
+      if (overBudget())
+        break;
+    }
+  } else {
+    elaborateInstance(node);
+  }
+  node.state = InstNode::State::Done;
+}
+
+namespace {
+/// Walks a class and its bases, collecting members and equations into an
+/// instance.
+struct Collector {
+  Flattener &f;
+  ClassTable &classes;
+  DiagnosticEngine &diags;
+  InstNode &node;
+  std::vector<const ast::ClassDef *> stack;
+  std::vector<ModPtr> extendsMods; // innermost last
+  std::vector<ModPtr> allExtendsMods;
+
+  void collect(const ast::ClassDef &cls,
+               ModPtr (Flattener::*makeMod)(const ast::Modification *,
+                                            const Scope &)) {
+    stack.push_back(&cls);
+    for (const ast::Extends &ext : cls.extends) {
+      const ast::ClassDef *base =
+          classes.resolveClass(ext.base, &cls, cls.file);
+      ModPtr extMod = (f.*makeMod)(ext.mod.get(), Scope{&node, &cls});
+      // `extends R2` where `model R2 = Resistor(R = 2)`.
+      for (unsigned guard = 0; base && base->isShort && guard < 32; ++guard) {
+        ModPtr shortMod =
+            (f.*makeMod)(base->shortMod.get(), Scope{nullptr, base->parent});
+        extMod = mergeMods(extMod, shortMod);
+        if (builtinNamed(base->shortBase) != BuiltinType::None) {
+          f.report(DiagId::ErrUnsupported, ext.loc,
+                       {"extending a built-in type"});
+          base = nullptr;
+          break;
+        }
+        base = classes.resolveClass(base->shortBase, base->parent, base->file);
+      }
+      if (!base)
+        continue;
+      if (std::find(stack.begin(), stack.end(), base) != stack.end()) {
+        f.report(DiagId::ErrRecursiveExtends,
+                     SourceRange{ext.base.loc, ext.base.length},
+                     {base->name});
+        continue;
+      }
+      if (base->kind == ast::ClassKind::Function ||
+          base->kind == ast::ClassKind::Package) {
+        f.report(DiagId::ErrNotAType, ext.base.loc,
+                     {base->name, ast::classKindName(base->kind)});
+        continue;
+      }
+      allExtendsMods.push_back(extMod);
+      extendsMods.push_back(extMod);
+      collect(*base, makeMod);
+      extendsMods.pop_back();
+    }
+    if (cls.algorithmInModel.valid())
+      f.report(DiagId::ErrUnsupported, cls.algorithmInModel,
+                   {"algorithm sections outside functions"});
+    for (const ast::Component &comp : cls.components) {
+      ModPtr mod = (f.*makeMod)(comp.mod.get(), Scope{&node, &cls});
+      for (auto it = extendsMods.rbegin(); it != extendsMods.rend(); ++it)
+        mod = mergeMods(*it ? (*it)->sub(comp.name) : nullptr, mod);
+      auto existing = node.memberIndex.find(comp.name);
+      if (existing != node.memberIndex.end()) {
+        const ast::Component *old = existing->second->decl;
+        if (old != &comp && (old->typeName.str() != comp.typeName.str() ||
+                             old->dims.size() != comp.dims.size())) {
+          Diagnostic &diag =
+              f.report(DiagId::ErrDuplicateDeclaration,
+                           SourceRange{comp.loc, comp.length},
+                           {comp.name, old->typeName.str(), comp.typeName.str()});
+          DiagnosticEngine::addNote(diag, old->loc, DiagId::NoteDeclaredHere,
+                                    {comp.name});
+        }
+        continue;
+      }
+      auto child = std::make_unique<InstNode>();
+      child->name = comp.name;
+      child->path = joinPath(node.path, comp.name);
+      child->parent = &node;
+      child->decl = &comp;
+      child->declClass = &cls;
+      child->mod = mod;
+      node.memberIndex[comp.name] = child.get();
+      node.members.push_back(std::move(child));
+    }
+    for (const ast::Equation &eq : cls.equations)
+      node.equations.emplace_back(&eq, &cls);
+    for (const ast::Equation &eq : cls.initialEquations)
+      node.initialEquations.emplace_back(&eq, &cls);
+    stack.pop_back();
+  }
+};
+} // namespace
+
+void Flattener::elaborateInstance(InstNode &node) {
+  Collector c{*this, classes_, diags_, node, {}, {}, {}};
+  c.collect(*node.cls, &Flattener::makeMod);
+  node.membersReady = true;
+  // The outer modifier applies to the merged members.
+  for (auto &m : node.members)
+    m->mod = mergeMods(node.mod ? node.mod->sub(m->name) : nullptr, m->mod);
+  checkModifiers(node);
+  for (const ModPtr &ext : c.allExtendsMods) {
+    if (!ext)
+      continue;
+    for (auto &[name, sub] : ext->subs)
+      if (!node.memberIndex.count(name)) {
+        std::vector<std::string> names;
+        for (const auto &m : node.members)
+          names.push_back(m->name);
+        std::string best = closestName(name, names);
+        if (best.empty())
+          report(DiagId::ErrUnknownModifier, SourceRange{sub->loc, sub->length},
+                        {name, node.cls->name});
+        else
+          report(DiagId::ErrUnknownModifierSuggest,
+                        SourceRange{sub->loc, sub->length}, {name, node.cls->name, best});
+      }
+  }
+  for (auto &m : node.members) {
+    ensureElaborated(*m, m->decl->loc);
+    if (overBudget())
+      break;
+  }
+}
+
+void Flattener::checkModifiers(InstNode &node) {
+  if (!node.mod)
+    return;
+  std::vector<std::string> names;
+  if (node.isLeaf())
+    names = attributeNames(node.builtin);
+  else
+    for (const auto &m : node.members)
+      names.push_back(m->name);
+  std::string typeName =
+      node.isLeaf() ? node.typeName : (node.cls ? node.cls->name : node.typeName);
+  for (const auto &[name, sub] : node.mod->subs) {
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      continue;
+    std::string best = closestName(name, names);
+    if (best.empty())
+      report(DiagId::ErrUnknownModifier,
+                    SourceRange{sub->loc, sub->length}, {name, typeName});
+    else
+      report(DiagId::ErrUnknownModifierSuggest,
+                    SourceRange{sub->loc, sub->length}, {name, typeName, best});
+  }
+}
+
+void Flattener::createLeafSlots(InstNode &node) {
+  int64_t count = 1;
+  for (int64_t n : node.dims)
+    count *= n;
+  if (node.builtin == BuiltinType::String)
+    return; // strings only document; using one in an equation is an error
+  node.slots.reserve(count);
+  for (int64_t i = 0; i < count; ++i) {
+    ModPtr m = node.dims.empty()
+                   ? node.mod
+                   : indexMod(node.mod, elementSubscripts(node.dims, i));
+    std::string name = elementName(node.path, node.dims, i);
+    if (node.isParameterLike())
+      createParameter(node, name, m);
+    else
+      createVariable(node, name, m);
+  }
+  if (!node.isParameterLike() && node.mod && node.mod->value)
+    node.binding = node.mod;
+}
+
+namespace {
+/// A scalar number out of a modifier value, with the errors for strings
+/// and arrays.
+std::optional<double> scalarNumber(Flattener &f, const Mod &mod,
+                                   const std::string &what) {
+  std::optional<Value> v = f.lowerModValue(mod);
+  if (!v)
+    return std::nullopt;
+  if (v->isString) {
+    f.report(DiagId::ErrModifierType, SourceRange{mod.loc, mod.length},
+                     {what, "a number", "a string"});
+    return std::nullopt;
+  }
+  if (!v->shape.empty()) {
+    f.report(DiagId::ErrModifierType, SourceRange{mod.loc, mod.length},
+                     {what, "a scalar", describeShape(v->shape)});
+    return std::nullopt;
+  }
+  std::optional<double> c = f.constantValue(v->scalarExpr());
+  if (!c)
+    f.report(DiagId::ErrNotConstant, SourceRange{mod.loc, mod.length},
+                     {what});
+  return c;
+}
+} // namespace
+
+void Flattener::createParameter(InstNode &node, const std::string &name,
+                                const ModPtr &mod) {
+  ir::Parameter p;
+  p.name = name;
+  p.component = node.parent ? node.parent->path : "";
+  p.loc = node.decl->loc;
+  p.isConstant = node.variability == ast::Variability::Constant;
+  p.isInteger = node.builtin == BuiltinType::Integer;
+  p.isBoolean = node.builtin == BuiltinType::Boolean;
+  std::string what = "value of '" + name + "'";
+  bool haveValue = false;
+  if (mod && mod->value) {
+    if (std::optional<double> v = scalarNumber(*this, *mod, what)) {
+      p.value = *v;
+      haveValue = true;
+    }
+  } else if (ModPtr start = mod ? mod->sub("start") : nullptr;
+             start && start->value) {
+    if (std::optional<double> v = scalarNumber(*this, *start, what))
+      p.value = *v;
+    haveValue = true;
+  }
+  auto ov = overrides_.find(name);
+  if (ov != overrides_.end()) {
+    ov->second.second = true;
+    if (p.isConstant)
+      report(DiagId::ErrOverrideConstant, p.loc, {name});
+    else {
+      p.value = ov->second.first;
+      haveValue = true;
+    }
+  }
+  if (!haveValue && !(mod && mod->value))
+    report(DiagId::WarnParameterNoValue, p.loc, {name});
+  if (p.isInteger && p.value != std::floor(p.value))
+    report(DiagId::ErrModifierType, p.loc,
+                  {what, "an Integer", fmtInteger(p.value)});
+  ir::ParamId id = model_->addParameter(std::move(p));
+  node.slots.push_back({true, id});
+}
+
+void Flattener::createVariable(InstNode &node, const std::string &name,
+                               const ModPtr &mod) {
+  ir::Variable v;
+  v.name = name;
+  v.component = node.parent ? node.parent->path : "";
+  v.loc = node.decl->loc;
+  v.isInput = node.causality == ast::Causality::Input;
+  v.isOutput = node.causality == ast::Causality::Output;
+  v.isInteger = node.builtin == BuiltinType::Integer;
+  v.isBoolean = node.builtin == BuiltinType::Boolean;
+  v.isDiscrete = v.isInteger || v.isBoolean ||
+                 node.variability == ast::Variability::Discrete;
+  if (mod) {
+    auto attr = [&](const char *key) -> std::optional<double> {
+      ModPtr a = mod->sub(key);
+      if (!a || !a->value)
+        return std::nullopt;
+      return scalarNumber(*this, *a,
+                          std::string("attribute '") + key + "' of '" + name + "'");
+    };
+    if (auto s = attr("start")) {
+      v.start = *s;
+      v.hasStart = true;
+    }
+    if (auto s = attr("fixed"))
+      v.fixed = *s != 0;
+    if (auto s = attr("nominal"))
+      v.nominal = *s;
+    if (auto s = attr("min"))
+      v.min = *s;
+    if (auto s = attr("max"))
+      v.max = *s;
+    if (auto s = attr("stateSelect"))
+      v.stateSelect = static_cast<ir::StateSelect>(
+          std::clamp(static_cast<int>(*s), 0, 4));
+    if (ModPtr u = mod->sub("unit"); u && u->value) {
+      std::optional<Value> uv = lowerModValue(*u);
+      if (uv && !uv->isString)
+        report(DiagId::ErrModifierType, SourceRange{u->loc, u->length},
+                      {"attribute 'unit' of '" + name + "'", "a string",
+                       "a number"});
+      else if (uv)
+        v.unit = uv->str;
+    }
+  }
+  bool isFlow = node.flow && (node.isConnector ||
+                              (node.parent && node.parent->isConnector));
+  ir::VarId id = model_->addVariable(std::move(v));
+  node.slots.push_back({false, id});
+  if (isFlow)
+    flowVars_.push_back(id);
+}
+
+void Flattener::readExperiment(const ast::ClassDef &cls, InstNode &root) {
+  for (const auto &ann : cls.annotations)
+    for (const ast::Modifier &arg : ann->args) {
+      if (arg.path.size() != 1 || arg.path[0] != "experiment" || !arg.mod)
+        continue;
+      for (const ast::Modifier &field : arg.mod->args) {
+        if (field.path.size() != 1 || !field.mod || !field.mod->value)
+          continue;
+        const std::string &key = field.path[0];
+        std::optional<double> *slot =
+            key == "StartTime"   ? &model_->experiment.startTime
+            : key == "StopTime"  ? &model_->experiment.stopTime
+            : key == "Tolerance" ? &model_->experiment.tolerance
+            : key == "Interval"  ? &model_->experiment.interval
+                                 : nullptr;
+        if (!slot)
+          continue;
+        if (std::optional<double> v = evalConstant(
+                *field.mod->value, Scope{&root, &cls}, nullptr,
+                "experiment " + key))
+          *slot = *v;
+      }
+    }
+}
+
+} // namespace ldae::frontend

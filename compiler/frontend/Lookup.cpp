@@ -1,0 +1,391 @@
+// Name lookup for component references: local names (iterators, function
+// variables), then the components of the instance, then the built-in
+// names, then classes and package constants by the lexical rules of
+// ClassTable. Subscripts select elements of arrays of values and of
+// components; `end` in a subscript is that dimension's size.
+#include "frontend/Flattener.h"
+
+#include <cmath>
+
+namespace ldae::frontend {
+
+Value *Env::find(const std::string &name) {
+  for (Env *e = this; e; e = e->parent)
+    for (auto &[n, v] : e->vars)
+      if (n == name)
+        return &v;
+  return nullptr;
+}
+
+void Env::set(const std::string &name, Value v) {
+  for (auto &[n, old] : vars)
+    if (n == name) {
+      old = std::move(v);
+      return;
+    }
+  vars.emplace_back(name, std::move(v));
+}
+
+std::vector<int64_t> elementSubscripts(const std::vector<int64_t> &dims,
+                                       int64_t index) {
+  std::vector<int64_t> subs(dims.size());
+  for (size_t k = dims.size(); k-- > 0;) {
+    subs[k] = dims[k] ? index % dims[k] + 1 : 1;
+    index = dims[k] ? index / dims[k] : 0;
+  }
+  return subs;
+}
+
+std::string elementName(const std::string &base,
+                        const std::vector<int64_t> &dims, int64_t index) {
+  if (dims.empty())
+    return base;
+  std::string s = base + "[";
+  std::vector<int64_t> subs = elementSubscripts(dims, index);
+  for (size_t k = 0; k < subs.size(); ++k)
+    s += (k ? "," : "") + std::to_string(subs[k]);
+  return s + "]";
+}
+
+bool Flattener::applySubscripts(const std::vector<ast::ExprPtr> &subs,
+                                const std::vector<int64_t> &dims,
+                                const std::string &what, const Scope &scope,
+                                Env *env, std::vector<int64_t> &outShape,
+                                std::vector<int64_t> &outOffsets,
+                                SourceLoc loc) {
+  if (subs.size() > dims.size()) {
+    report(DiagId::ErrTooManySubscripts, loc,
+                  {what, std::to_string(dims.size()),
+                   std::to_string(subs.size())});
+    return false;
+  }
+  // Indices (0-based) chosen per dimension.
+  std::vector<std::vector<int64_t>> chosen(dims.size());
+  for (size_t k = 0; k < dims.size(); ++k) {
+    if (k >= subs.size() || subs[k]->kind == ast::ExprKind::Colon) {
+      for (int64_t i = 0; i < dims[k]; ++i)
+        chosen[k].push_back(i);
+      outShape.push_back(dims[k]);
+      continue;
+    }
+    endStack.push_back(dims[k]);
+    std::optional<Value> v = lower(*subs[k], scope, env);
+    endStack.pop_back();
+    if (!v)
+      return false;
+    if (v->isString) {
+      report(DiagId::ErrSubscriptNotInteger, subs[k]->loc, {what});
+      return false;
+    }
+    if (v->shape.size() > 1) {
+      report(DiagId::ErrSubscriptNotInteger, subs[k]->loc, {what});
+      return false;
+    }
+    for (ir::ExprRef e : v->elems) {
+      std::optional<double> c = constantValue(e);
+      if (!c) {
+        report(DiagId::ErrSubscriptNotConstant,
+                      SourceRange{subs[k]->loc, subs[k]->length}, {what});
+        return false;
+      }
+      if (*c != std::floor(*c)) {
+        report(DiagId::ErrSubscriptNotInteger, subs[k]->loc, {what});
+        return false;
+      }
+      if (*c < 1 || *c > static_cast<double>(dims[k])) {
+        report(DiagId::ErrIndexOutOfRange,
+                      SourceRange{subs[k]->loc, subs[k]->length},
+                      {fmtInteger(*c), what, std::to_string(dims[k])});
+        return false;
+      }
+      chosen[k].push_back(static_cast<int64_t>(*c) - 1);
+    }
+    if (!v->shape.empty())
+      outShape.push_back(static_cast<int64_t>(v->elems.size()));
+  }
+  // Row-major cartesian product of the choices.
+  outOffsets.assign(1, 0);
+  for (size_t k = 0; k < dims.size(); ++k) {
+    std::vector<int64_t> next;
+    next.reserve(outOffsets.size() * chosen[k].size());
+    for (int64_t base : outOffsets)
+      for (int64_t i : chosen[k])
+        next.push_back(base * dims[k] + i);
+    outOffsets = std::move(next);
+  }
+  return true;
+}
+
+std::optional<Selection>
+Flattener::resolveInstancePath(const ast::Expr &ref, size_t firstPart,
+                               InstNode *start, const Scope &scope, Env *env) {
+  Selection sel;
+  sel.targets.push_back({start, -1});
+  std::string written;
+  for (size_t i = firstPart; i < ref.parts.size(); ++i) {
+    const ast::RefPart &part = ref.parts[i];
+    written += (written.empty() ? "" : ".") + part.name;
+    Selection next;
+    next.shape = sel.shape;
+    bool first = true;
+    for (const RefTarget &t : sel.targets) {
+      InstNode *n = t.node;
+      if (!ensureElaborated(*n, ref.loc))
+        return std::nullopt;
+      std::vector<int64_t> shape, offsets;
+      if (!n->isArray() && !part.subscripts.empty()) {
+        report(DiagId::ErrNotAnArray,
+                      SourceRange{ref.loc, ref.length}, {written});
+        return std::nullopt;
+      }
+      if (!applySubscripts(part.subscripts, n->dims, written, scope, env,
+                           shape, offsets, ref.loc))
+        return std::nullopt;
+      if (first)
+        next.shape.insert(next.shape.end(), shape.begin(), shape.end());
+      first = false;
+      for (int64_t off : offsets) {
+        if (n->isLeaf())
+          next.targets.push_back({n, off});
+        else if (n->isArray())
+          next.targets.push_back({n->elements[off].get(), -1});
+        else
+          next.targets.push_back({n, -1});
+      }
+    }
+    sel = std::move(next);
+    if (i + 1 == ref.parts.size())
+      break;
+    // Step into the member named by the next part.
+    const std::string &member = ref.parts[i + 1].name;
+    for (RefTarget &t : sel.targets) {
+      InstNode *n = t.node;
+      auto it = n->memberIndex.find(member);
+      if (n->isLeaf() || it == n->memberIndex.end()) {
+        std::vector<std::string> names;
+        for (const auto &m : n->members)
+          names.push_back(m->name);
+        std::string best = closestName(member, names);
+        if (best.empty())
+          report(DiagId::ErrNoMember, SourceRange{ref.loc, ref.length},
+                        {member, written, n->typeName});
+        else
+          report(DiagId::ErrNoMemberSuggest,
+                        SourceRange{ref.loc, ref.length},
+                        {member, written, n->typeName, best});
+        return std::nullopt;
+      }
+      t = {it->second, -1};
+    }
+  }
+  return sel;
+}
+
+std::optional<Value>
+Flattener::packageConstant(const ast::Component &comp,
+                           const ast::ClassDef &owner, const ast::Expr &ref,
+                           size_t part, const Scope &scope, Env *env) {
+  std::string name = comp.name;
+  if (comp.prefix.variability != ast::Variability::Constant &&
+      comp.prefix.variability != ast::Variability::Parameter) {
+    report(DiagId::ErrNotConstantRef, SourceRange{ref.loc, ref.length},
+                  {ref.refName()});
+    return std::nullopt;
+  }
+  auto cached = packageConstants_.find(&comp);
+  Value value;
+  if (cached != packageConstants_.end()) {
+    value = cached->second;
+  } else {
+    if (packageConstantBusy_[&comp]) {
+      report(DiagId::ErrCyclicDefinition, comp.loc, {name});
+      return std::nullopt;
+    }
+    if (!comp.mod || !comp.mod->value) {
+      report(DiagId::ErrConstantWithoutValue,
+                    SourceRange{ref.loc, ref.length}, {ref.refName()});
+      return std::nullopt;
+    }
+    packageConstantBusy_[&comp] = true;
+    std::optional<Value> v = lower(*comp.mod->value, Scope{nullptr, &owner}, nullptr);
+    packageConstantBusy_[&comp] = false;
+    if (!v)
+      return std::nullopt;
+    value = *v;
+    packageConstants_[&comp] = value;
+  }
+  if (part + 1 < ref.parts.size()) {
+    report(DiagId::ErrNoMember, SourceRange{ref.loc, ref.length},
+                  {ref.parts[part + 1].name, ref.parts[part].name, "Real"});
+    return std::nullopt;
+  }
+  const auto &subs = ref.parts[part].subscripts;
+  if (subs.empty() || value.isString)
+    return value;
+  std::vector<int64_t> shape, offsets;
+  if (!applySubscripts(subs, value.shape, ref.refName(), scope, env, shape,
+                       offsets, ref.loc))
+    return std::nullopt;
+  Value out;
+  out.shape = shape;
+  for (int64_t off : offsets)
+    out.elems.push_back(value.elems[off]);
+  return out;
+}
+
+/// `StateSelect.prefer` and friends: enumeration values of the one built-in
+/// enumeration lsd knows, as their index.
+static std::optional<double> stateSelectValue(const ast::Expr &ref) {
+  if (ref.parts.size() != 2 || ref.parts[0].name != "StateSelect")
+    return std::nullopt;
+  static const char *names[] = {"never", "avoid", "default", "prefer", "always"};
+  for (int i = 0; i < 5; ++i)
+    if (ref.parts[1].name == names[i])
+      return i;
+  return std::nullopt;
+}
+
+std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
+                                         const Scope &scope, Env *env) {
+  const std::string &first = ref.parts[0].name;
+  // Locals: iterators and function variables.
+  if (!ref.global && env)
+    if (Value *local = env->find(first)) {
+      if (ref.parts.size() > 1) {
+        report(DiagId::ErrNoMember, SourceRange{ref.loc, ref.length},
+                      {ref.parts[1].name, first, "Real"});
+        return std::nullopt;
+      }
+      Value v = *local;
+      for (ir::ExprRef e : v.elems)
+        if (!e) {
+          report(DiagId::ErrUsedBeforeAssigned,
+                        SourceRange{ref.loc, ref.length}, {first});
+          return std::nullopt;
+        }
+      if (ref.parts[0].subscripts.empty())
+        return v;
+      if (v.isString || v.shape.empty()) {
+        report(DiagId::ErrNotAnArray, SourceRange{ref.loc, ref.length},
+                      {first});
+        return std::nullopt;
+      }
+      std::vector<int64_t> shape, offsets;
+      if (!applySubscripts(ref.parts[0].subscripts, v.shape, first, scope, env,
+                           shape, offsets, ref.loc))
+        return std::nullopt;
+      Value out;
+      out.shape = shape;
+      for (int64_t off : offsets)
+        out.elems.push_back(v.elems[off]);
+      return out;
+    }
+  // Components of the instance.
+  if (!ref.global && scope.inst) {
+    auto it = scope.inst->memberIndex.find(first);
+    if (it != scope.inst->memberIndex.end()) {
+      std::optional<Selection> sel =
+          resolveInstancePath(ref, 0, it->second, scope, env);
+      if (!sel)
+        return std::nullopt;
+      Value v;
+      v.shape = sel->shape;
+      for (const RefTarget &t : sel->targets) {
+        if (t.slot < 0) {
+          report(DiagId::ErrComponentAsValue,
+                        SourceRange{ref.loc, ref.length},
+                        {ref.refName(), t.node->typeName});
+          return std::nullopt;
+        }
+        if (t.node->builtin == BuiltinType::String ||
+            t.slot >= static_cast<int64_t>(t.node->slots.size())) {
+          report(DiagId::ErrStringComponent,
+                        SourceRange{ref.loc, ref.length}, {ref.refName()});
+          return std::nullopt;
+        }
+        const Slot &s = t.node->slots[t.slot];
+        v.elems.push_back(s.isParam ? ctx().param(s.id) : ctx().var(s.id));
+      }
+      return v;
+    }
+  }
+  // Built-in names.
+  if (!ref.global && ref.parts.size() == 1 && ref.parts[0].subscripts.empty()) {
+    if (first == "time")
+      return Value::scalar(ctx().time());
+    if (first == "pi")
+      return Value::scalar(ctx().constant(M_PI));
+  }
+  if (std::optional<double> ss = stateSelectValue(ref))
+    return Value::scalar(ctx().constant(*ss));
+  // Classes and package constants.
+  uint32_t file = scope.cls ? scope.cls->file : ref.loc.file;
+  LexicalHit hit = ref.global ? classes_.lookup(first, nullptr, file)
+                              : classes_.lookup(first, scope.cls, file);
+  if (hit.comp)
+    return packageConstant(*hit.comp, *hit.owner, ref, 0, scope, env);
+  if (hit.cls) {
+    const ast::ClassDef *cls = hit.cls;
+    for (size_t i = 1; i < ref.parts.size(); ++i) {
+      const std::string &name = ref.parts[i].name;
+      if (const ast::ClassDef *inner = classes_.memberClass(*cls, name)) {
+        cls = inner;
+        continue;
+      }
+      const ast::ClassDef *owner = nullptr;
+      if (const ast::Component *comp =
+              classes_.memberComponent(*cls, name, &owner))
+        return packageConstant(*comp, *owner, ref, i, scope, env);
+      report(DiagId::ErrNoMember, SourceRange{ref.loc, ref.length},
+                    {name, cls->qualifiedName(), cls->name});
+      return std::nullopt;
+    }
+    report(DiagId::ErrClassAsValue, SourceRange{ref.loc, ref.length},
+                  {ref.refName()});
+    return std::nullopt;
+  }
+  std::string best = suggest(first, scope, env);
+  if (best.empty())
+    report(DiagId::ErrUndefinedName, SourceRange{ref.loc, ref.length},
+                  {first});
+  else
+    report(DiagId::ErrUndefinedNameSuggest,
+                  SourceRange{ref.loc, ref.length}, {first, best});
+  return std::nullopt;
+}
+
+std::optional<Selection>
+Flattener::selectComponents(const ast::Expr &ref, const Scope &scope,
+                            Env *env) {
+  const std::string &first = ref.parts[0].name;
+  if (!ref.global && scope.inst) {
+    auto it = scope.inst->memberIndex.find(first);
+    if (it != scope.inst->memberIndex.end())
+      return resolveInstancePath(ref, 0, it->second, scope, env);
+  }
+  std::string best = suggest(first, scope, env);
+  if (best.empty())
+    report(DiagId::ErrUndefinedName, SourceRange{ref.loc, ref.length},
+                  {first});
+  else
+    report(DiagId::ErrUndefinedNameSuggest,
+                  SourceRange{ref.loc, ref.length}, {first, best});
+  return std::nullopt;
+}
+
+std::string Flattener::suggest(const std::string &name, const Scope &scope,
+                               Env *env) {
+  std::vector<std::string> names;
+  for (Env *e = env; e; e = e->parent)
+    for (const auto &[n, v] : e->vars)
+      names.push_back(n);
+  if (scope.inst)
+    for (const auto &m : scope.inst->members)
+      names.push_back(m->name);
+  names.push_back("time");
+  names.push_back("pi");
+  classes_.visibleNames(scope.cls, scope.cls ? scope.cls->file : 0, names);
+  return closestName(name, names);
+}
+
+} // namespace ldae::frontend

@@ -1,0 +1,518 @@
+// Expressions -> IR values: operators with Modelica's array semantics
+// (element-wise + and -, scalar broadcast, matrix and vector products),
+// if-expressions (decided at compile time when the condition is a
+// parameter expression), array constructors and comprehensions, ranges,
+// and compile-time evaluation of parameter expressions.
+#include "frontend/Flattener.h"
+
+#include "ir/Evaluate.h"
+#include "ir/Query.h"
+
+#include <cmath>
+
+namespace ldae::frontend {
+namespace {
+
+/// Counts lowering recursion; the parser already bounds nesting, this is
+/// the backstop for recursion through inlined functions and constants.
+struct DepthGuard {
+  unsigned &depth;
+  explicit DepthGuard(unsigned &d) : depth(++d) {}
+  ~DepthGuard() { --depth; }
+};
+
+constexpr unsigned kMaxLowerDepth = 4000;
+
+const char *binOpText(ast::BinOp op) {
+  switch (op) {
+  case ast::BinOp::Add: return "+";
+  case ast::BinOp::Sub: return "-";
+  case ast::BinOp::Mul: return "*";
+  case ast::BinOp::Div: return "/";
+  case ast::BinOp::Pow: return "^";
+  case ast::BinOp::EAdd: return ".+";
+  case ast::BinOp::ESub: return ".-";
+  case ast::BinOp::EMul: return ".*";
+  case ast::BinOp::EDiv: return "./";
+  case ast::BinOp::EPow: return ".^";
+  case ast::BinOp::Lt: return "<";
+  case ast::BinOp::Le: return "<=";
+  case ast::BinOp::Gt: return ">";
+  case ast::BinOp::Ge: return ">=";
+  case ast::BinOp::Eq: return "==";
+  case ast::BinOp::Ne: return "<>";
+  case ast::BinOp::And: return "and";
+  case ast::BinOp::Or: return "or";
+  }
+  return "?";
+}
+
+} // namespace
+
+Diagnostic &Flattener::report(DiagId id, SourceRange range,
+                              std::vector<std::string> args) {
+  std::string key = std::to_string(static_cast<int>(id)) + ":" +
+                    std::to_string(range.begin.file) + ":" +
+                    std::to_string(range.begin.line) + ":" +
+                    std::to_string(range.begin.col);
+  for (const auto &a : args)
+    key += ":" + a;
+  if (!reported_.insert(key).second) {
+    dropped_ = Diagnostic{};
+    return dropped_;
+  }
+  return diags_.report(id, range, std::move(args));
+}
+
+std::optional<double> Flattener::constantValue(ir::ExprRef e) {
+  if (!e)
+    return std::nullopt;
+  if (e->isConstant())
+    return e->constant();
+  if (ir::dependsOnTime(e))
+    return std::nullopt;
+  bool dependsOnVariable = false;
+  ir::EvalEnv env;
+  env.variable = [&](ir::VarKey) {
+    dependsOnVariable = true;
+    return 0.0;
+  };
+  env.pre = [&](ir::VarId) {
+    dependsOnVariable = true;
+    return 0.0;
+  };
+  env.parameter = [&](ir::ParamId p) {
+    return p < model_->parameters.size() ? model_->parameters[p].value : 0.0;
+  };
+  Expected<double> r = ir::evaluate(e, env, model_.get());
+  if (!r || dependsOnVariable)
+    return std::nullopt;
+  return *r;
+}
+
+std::optional<double> Flattener::evalConstant(const ast::Expr &e,
+                                              const Scope &scope, Env *env,
+                                              const std::string &what) {
+  std::optional<Value> v = lower(e, scope, env);
+  if (!v)
+    return std::nullopt;
+  if (v->isString || !v->shape.empty()) {
+    report(DiagId::ErrExpectedScalar, SourceRange{e.loc, e.length},
+           {what, v->isString ? "a string" : describeShape(v->shape)});
+    return std::nullopt;
+  }
+  std::optional<double> c = constantValue(v->scalarExpr());
+  if (!c) {
+    std::vector<ir::VarKey> vars = ir::freeVariables(v->scalarExpr());
+    if (!vars.empty()) {
+      Diagnostic &d = report(DiagId::ErrNotParameterExpr,
+                             SourceRange{e.loc, e.length}, {what});
+      const ir::Variable &var = model_->variables[vars[0].var];
+      DiagnosticEngine::addNote(d, var.loc, DiagId::NoteIsVariable, {var.name});
+    } else {
+      report(DiagId::ErrNotParameterExpr, SourceRange{e.loc, e.length}, {what});
+    }
+  }
+  return c;
+}
+
+std::optional<int64_t> Flattener::evalInteger(const ast::Expr &e,
+                                              const Scope &scope, Env *env,
+                                              const std::string &what) {
+  std::optional<double> v = evalConstant(e, scope, env, what);
+  if (!v)
+    return std::nullopt;
+  if (*v != std::floor(*v) || std::abs(*v) > 9e15) {
+    report(DiagId::ErrExpectedInteger, SourceRange{e.loc, e.length},
+           {what, fmtInteger(*v)});
+    return std::nullopt;
+  }
+  return static_cast<int64_t>(*v);
+}
+
+std::optional<Value> Flattener::lowerModValue(const Mod &mod) {
+  if (!mod.value)
+    return std::nullopt;
+  auto key = std::make_tuple(mod.value, mod.scope.inst, mod.scope.cls);
+  auto it = modValueCache_.find(key);
+  Value v;
+  if (it != modValueCache_.end()) {
+    v = it->second;
+  } else {
+    std::optional<Value> lowered = lower(*mod.value, mod.scope, nullptr);
+    if (!lowered)
+      return std::nullopt;
+    v = *lowered;
+    modValueCache_.emplace(key, v);
+  }
+  for (int64_t idx : mod.index) {
+    if (v.shape.empty() || v.isString)
+      break; // a scalar applies to every element
+    if (idx < 1 || idx > v.shape[0]) {
+      report(DiagId::ErrModifierSize, SourceRange{mod.loc, mod.length},
+             {describeShape(v.shape), std::to_string(idx)});
+      return std::nullopt;
+    }
+    v = v.row(idx - 1);
+  }
+  return v;
+}
+
+std::optional<std::vector<double>>
+Flattener::iteratorValues(const ast::ForIndex &it, const Scope &scope,
+                          Env *env) {
+  if (!it.range) {
+    report(DiagId::ErrUnsupported, it.loc, {"for-loops without 'in range'"});
+    return std::nullopt;
+  }
+  std::optional<Value> v = lower(*it.range, scope, env);
+  if (!v)
+    return std::nullopt;
+  if (v->isString || v->shape.size() > 1) {
+    report(DiagId::ErrExpectedScalar, SourceRange{it.range->loc, it.range->length},
+           {"range of '" + it.name + "'", "a vector"});
+    return std::nullopt;
+  }
+  std::vector<double> values;
+  values.reserve(v->elems.size());
+  for (ir::ExprRef e : v->elems) {
+    std::optional<double> c = constantValue(e);
+    if (!c) {
+      report(DiagId::ErrNotParameterExpr,
+             SourceRange{it.range->loc, it.range->length},
+             {"range of '" + it.name + "'"});
+      return std::nullopt;
+    }
+    values.push_back(*c);
+  }
+  return values;
+}
+
+/// `*` with Modelica's meaning on vectors and matrices.
+static std::optional<Value> multiply(Flattener &f, const Value &a,
+                                     const Value &b, const ast::Expr &where) {
+  ir::ExprContext &ctx = f.ctx();
+  auto mul = [&](ir::ExprRef x, ir::ExprRef y) { return ctx.mul(x, y); };
+  if (a.shape.empty() || b.shape.empty())
+    return f.map2Value(a, b, mul, where, "*");
+  size_t ra = a.shape.size(), rb = b.shape.size();
+  if (ra > 2 || rb > 2) {
+    f.report(DiagId::ErrShapeMismatch, SourceRange{where.loc, where.length},
+             {"*", describeShape(a.shape), describeShape(b.shape)});
+    return std::nullopt;
+  }
+  int64_t inner = a.shape.back();
+  int64_t innerB = b.shape[0];
+  if (inner != innerB) {
+    f.report(DiagId::ErrShapeMismatch, SourceRange{where.loc, where.length},
+             {"*", describeShape(a.shape), describeShape(b.shape)});
+    return std::nullopt;
+  }
+  int64_t rows = ra == 2 ? a.shape[0] : 1;
+  int64_t cols = rb == 2 ? b.shape[1] : 1;
+  Value r;
+  if (ra == 2)
+    r.shape.push_back(rows);
+  if (rb == 2)
+    r.shape.push_back(cols);
+  for (int64_t i = 0; i < rows; ++i)
+    for (int64_t j = 0; j < cols; ++j) {
+      std::vector<ir::ExprRef> terms;
+      for (int64_t k = 0; k < inner; ++k)
+        terms.push_back(ctx.mul(a.elems[i * inner + k], b.elems[k * cols + j]));
+      r.elems.push_back(ctx.add(terms));
+    }
+  return r;
+}
+
+std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
+                                      Env *env) {
+  DepthGuard guard(lowerDepth);
+  if (lowerDepth > kMaxLowerDepth) {
+    report(DiagId::ErrNestingTooDeep, e.loc, {std::to_string(kMaxLowerDepth)});
+    return std::nullopt;
+  }
+  ir::ExprContext &c = ctx();
+  switch (e.kind) {
+  case ast::ExprKind::Number:
+    return Value::scalar(c.constant(e.number));
+  case ast::ExprKind::String:
+    return Value::string(e.text);
+  case ast::ExprKind::Bool:
+    return Value::scalar(c.constant(e.boolean ? 1 : 0));
+  case ast::ExprKind::Ref:
+    return lowerRef(e, scope, env);
+  case ast::ExprKind::End:
+    if (endStack.empty()) {
+      report(DiagId::ErrMisplaced, e.loc, {"end", "a subscript"});
+      return std::nullopt;
+    }
+    return Value::scalar(c.constant(static_cast<double>(endStack.back())));
+  case ast::ExprKind::Colon:
+    report(DiagId::ErrMisplaced, e.loc, {":", "a subscript"});
+    return std::nullopt;
+  case ast::ExprKind::Tuple:
+    if (e.ops.size() == 1 && e.ops[0])
+      return lower(*e.ops[0], scope, env);
+    report(DiagId::ErrMisplaced, e.loc, {"(a, b)", "the left side of a call"});
+    return std::nullopt;
+  case ast::ExprKind::Call:
+    return lowerCall(e, scope, env);
+  case ast::ExprKind::Unary: {
+    std::optional<Value> a = lower(*e.ops[0], scope, env);
+    if (!a)
+      return std::nullopt;
+    if (a->isString) {
+      report(DiagId::ErrStringOperand, SourceRange{e.loc, e.length},
+             {e.unOp == ast::UnOp::Not ? "not" : "-"});
+      return std::nullopt;
+    }
+    if (e.unOp == ast::UnOp::Plus)
+      return a;
+    if (e.unOp == ast::UnOp::Neg)
+      return map1Value(*a, [&](ir::ExprRef x) { return c.neg(x); });
+    return map1Value(*a, [&](ir::ExprRef x) { return c.logicalNot(x); });
+  }
+  case ast::ExprKind::Binary: {
+    std::optional<Value> a = lower(*e.ops[0], scope, env);
+    if (!a)
+      return std::nullopt;
+    std::optional<Value> b = lower(*e.ops[1], scope, env);
+    if (!b)
+      return std::nullopt;
+    const char *op = binOpText(e.binOp);
+    if (a->isString || b->isString) {
+      if (e.binOp == ast::BinOp::Add && a->isString && b->isString)
+        return Value::string(a->str + b->str);
+      report(DiagId::ErrStringOperand, SourceRange{e.loc, e.length}, {op});
+      return std::nullopt;
+    }
+    auto cmp = [&](ir::CompareKind k) {
+      return map2Value(*a, *b,
+                       [&](ir::ExprRef x, ir::ExprRef y) {
+                         return c.compare(k, x, y);
+                       },
+                       e, op);
+    };
+    switch (e.binOp) {
+    case ast::BinOp::Add:
+    case ast::BinOp::EAdd:
+      return map2Value(*a, *b,
+                  [&](ir::ExprRef x, ir::ExprRef y) { return c.add(x, y); }, e, op);
+    case ast::BinOp::Sub:
+    case ast::BinOp::ESub:
+      return map2Value(*a, *b,
+                  [&](ir::ExprRef x, ir::ExprRef y) { return c.sub(x, y); }, e, op);
+    case ast::BinOp::Mul:
+      return multiply(*this, *a, *b, e);
+    case ast::BinOp::EMul:
+      return map2Value(*a, *b,
+                  [&](ir::ExprRef x, ir::ExprRef y) { return c.mul(x, y); }, e, op);
+    case ast::BinOp::Div:
+    case ast::BinOp::EDiv:
+      return map2Value(*a, *b,
+                  [&](ir::ExprRef x, ir::ExprRef y) { return c.div(x, y); }, e, op);
+    case ast::BinOp::Pow:
+    case ast::BinOp::EPow:
+      if (e.binOp == ast::BinOp::Pow && !a->shape.empty()) {
+        report(DiagId::ErrUnsupported, e.loc, {"matrix powers"});
+        return std::nullopt;
+      }
+      return map2Value(*a, *b,
+                  [&](ir::ExprRef x, ir::ExprRef y) { return c.pow(x, y); }, e, op);
+    case ast::BinOp::Lt:
+      return cmp(ir::CompareKind::Lt);
+    case ast::BinOp::Le:
+      return cmp(ir::CompareKind::Le);
+    case ast::BinOp::Gt:
+      return cmp(ir::CompareKind::Gt);
+    case ast::BinOp::Ge:
+      return cmp(ir::CompareKind::Ge);
+    case ast::BinOp::Eq:
+      return cmp(ir::CompareKind::Eq);
+    case ast::BinOp::Ne:
+      return cmp(ir::CompareKind::Ne);
+    case ast::BinOp::And:
+      return map2Value(*a, *b,
+                  [&](ir::ExprRef x, ir::ExprRef y) { return c.logicalAnd(x, y); },
+                  e, op);
+    case ast::BinOp::Or:
+      return map2Value(*a, *b,
+                  [&](ir::ExprRef x, ir::ExprRef y) { return c.logicalOr(x, y); },
+                  e, op);
+    }
+    return std::nullopt;
+  }
+  case ast::ExprKind::If: {
+    // ops: cond, then, {cond, then}, else. Parameter conditions pick a
+    // branch now; only the chosen branch has to be valid.
+    size_t pairs = (e.ops.size() - 1) / 2;
+    std::vector<ir::ExprRef> conds;
+    std::vector<Value> values;
+    for (size_t k = 0; k < pairs; ++k) {
+      std::optional<Value> cond = lower(*e.ops[2 * k], scope, env);
+      if (!cond)
+        return std::nullopt;
+      if (!cond->isScalar()) {
+        report(DiagId::ErrExpectedScalar,
+               SourceRange{e.ops[2 * k]->loc, e.ops[2 * k]->length},
+               {"condition", describeShape(cond->shape)});
+        return std::nullopt;
+      }
+      std::optional<double> known = constantValue(cond->scalarExpr());
+      if (known && *known == 0)
+        continue;
+      std::optional<Value> v = lower(*e.ops[2 * k + 1], scope, env);
+      if (!v)
+        return std::nullopt;
+      if (known && conds.empty())
+        return v;
+      if (known) {
+        values.push_back(*v);
+        conds.push_back(nullptr);
+        break;
+      }
+      conds.push_back(cond->scalarExpr());
+      values.push_back(*v);
+    }
+    if (conds.empty() || conds.back() != nullptr) {
+      std::optional<Value> v = lower(*e.ops.back(), scope, env);
+      if (!v)
+        return std::nullopt;
+      if (conds.empty())
+        return v;
+      values.push_back(*v);
+      conds.push_back(nullptr);
+    }
+    Value result = values.back();
+    for (size_t k = conds.size() - 1; k-- > 0;) {
+      const Value &then = values[k];
+      if (then.isString || result.isString || then.shape != result.shape) {
+        report(DiagId::ErrShapeMismatch, SourceRange{e.loc, e.length},
+               {"if", describeShape(then.shape), describeShape(result.shape)});
+        return std::nullopt;
+      }
+      for (size_t i = 0; i < result.elems.size(); ++i)
+        result.elems[i] = c.ifThenElse(conds[k], then.elems[i], result.elems[i]);
+    }
+    return result;
+  }
+  case ast::ExprKind::Array: {
+    std::vector<Value> items;
+    if (!e.iterators.empty()) {
+      // {expr for i in r, j in s}: the first iterator is the outer index.
+      Env local{env, {}};
+      std::vector<int64_t> outer;
+      std::function<bool(size_t)> iterate = [&](size_t k) -> bool {
+        if (k == e.iterators.size()) {
+          std::optional<Value> v = lower(*e.ops[0], scope, &local);
+          if (!v)
+            return false;
+          items.push_back(std::move(*v));
+          return true;
+        }
+        auto values = iteratorValues(e.iterators[k], scope, &local);
+        if (!values)
+          return false;
+        if (outer.size() <= k)
+          outer.push_back(static_cast<int64_t>(values->size()));
+        for (double x : *values) {
+          local.set(e.iterators[k].name, Value::scalar(c.constant(x)));
+          if (!iterate(k + 1) || overBudget())
+            return false;
+        }
+        return true;
+      };
+      if (!iterate(0))
+        return std::nullopt;
+      Value r;
+      r.shape = outer;
+      if (!items.empty())
+        r.shape.insert(r.shape.end(), items[0].shape.begin(), items[0].shape.end());
+      for (const Value &v : items)
+        r.elems.insert(r.elems.end(), v.elems.begin(), v.elems.end());
+      return r;
+    }
+    for (const auto &op : e.ops) {
+      std::optional<Value> v = lower(*op, scope, env);
+      if (!v)
+        return std::nullopt;
+      if (v->isString) {
+        report(DiagId::ErrStringOperand, SourceRange{op->loc, op->length}, {"{}"});
+        return std::nullopt;
+      }
+      if (!items.empty() && v->shape != items[0].shape) {
+        report(DiagId::ErrShapeMismatch, SourceRange{op->loc, op->length},
+               {"{}", describeShape(items[0].shape), describeShape(v->shape)});
+        return std::nullopt;
+      }
+      items.push_back(std::move(*v));
+    }
+    Value r;
+    r.shape.push_back(static_cast<int64_t>(items.size()));
+    if (!items.empty())
+      r.shape.insert(r.shape.end(), items[0].shape.begin(), items[0].shape.end());
+    for (const Value &v : items)
+      r.elems.insert(r.elems.end(), v.elems.begin(), v.elems.end());
+    return r;
+  }
+  case ast::ExprKind::Matrix: {
+    // [a, b; c, d] of scalars: each row a row of the matrix.
+    Value r;
+    int64_t cols = -1;
+    for (const auto &row : e.rows) {
+      if (cols >= 0 && static_cast<int64_t>(row.size()) != cols) {
+        report(DiagId::ErrShapeMismatch, SourceRange{e.loc, e.length},
+               {"[;]", std::to_string(cols) + " columns",
+                std::to_string(row.size()) + " columns"});
+        return std::nullopt;
+      }
+      cols = static_cast<int64_t>(row.size());
+      for (const auto &x : row) {
+        std::optional<Value> v = lower(*x, scope, env);
+        if (!v)
+          return std::nullopt;
+        if (!v->isScalar()) {
+          report(DiagId::ErrUnsupported, x->loc,
+                 {"matrix constructors of arrays"});
+          return std::nullopt;
+        }
+        r.elems.push_back(v->scalarExpr());
+      }
+    }
+    r.shape = {static_cast<int64_t>(e.rows.size()), std::max<int64_t>(cols, 0)};
+    return r;
+  }
+  case ast::ExprKind::Range: {
+    std::vector<double> parts;
+    for (const auto &op : e.ops) {
+      std::optional<double> v = evalConstant(*op, scope, env, "range bound");
+      if (!v)
+        return std::nullopt;
+      parts.push_back(*v);
+    }
+    double start = parts[0], stop = parts.back();
+    double step = parts.size() == 3 ? parts[1] : 1;
+    if (step == 0 || !std::isfinite(start) || !std::isfinite(stop) ||
+        !std::isfinite(step)) {
+      report(DiagId::ErrBadRange, SourceRange{e.loc, e.length}, {});
+      return std::nullopt;
+    }
+    double count = std::floor((stop - start) / step + 1e-9) + 1;
+    if (count > static_cast<double>(kMaxArrayElements)) {
+      report(DiagId::ErrArrayTooLarge, SourceRange{e.loc, e.length},
+             {"range", std::to_string(kMaxArrayElements)});
+      return std::nullopt;
+    }
+    Value r;
+    int64_t n = count > 0 ? static_cast<int64_t>(count) : 0;
+    r.shape.push_back(n);
+    for (int64_t i = 0; i < n; ++i)
+      r.elems.push_back(c.constant(start + static_cast<double>(i) * step));
+    return r;
+  }
+  }
+  return std::nullopt;
+}
+
+} // namespace ldae::frontend
