@@ -49,21 +49,23 @@ double foldProduct(std::vector<double> &values) {
   return p;
 }
 
-/// Appends the operands of `e` if it is a small node of `kind`, else `e`.
-void flattenInto(ExprKind kind, ExprRef e, std::vector<ExprRef> &out) {
-  if (e->kind() == kind && e->numOperands() <= kFlattenLimit)
-    out.insert(out.end(), e->operands().begin(), e->operands().end());
-  else
-    out.push_back(e);
+/// `ops` with every small node of `kind` replaced by its operands.
+std::vector<ExprRef> flatten(ExprKind kind, std::span<const ExprRef> ops) {
+  std::vector<ExprRef> flat;
+  flat.reserve(ops.size() + 4);
+  for (ExprRef e : ops) {
+    if (e->kind() == kind && e->numOperands() <= kFlattenLimit)
+      flat.insert(flat.end(), e->operands().begin(), e->operands().end());
+    else
+      flat.push_back(e);
+  }
+  return flat;
 }
 
 } // namespace
 
 ExprRef ExprContext::add(std::span<const ExprRef> terms) {
-  std::vector<ExprRef> flat;
-  flat.reserve(terms.size() + 4);
-  for (ExprRef t : terms)
-    flattenInto(ExprKind::Add, t, flat);
+  std::vector<ExprRef> flat = flatten(ExprKind::Add, terms);
 
   // Split every term into coefficient * rest and collect like terms.
   std::vector<double> constants;
@@ -154,10 +156,7 @@ ExprRef ExprContext::sub(ExprRef a, ExprRef b) { return add(a, neg(b)); }
 ExprRef ExprContext::neg(ExprRef a) { return mul(constant(-1.0), a); }
 
 ExprRef ExprContext::mul(std::span<const ExprRef> factors) {
-  std::vector<ExprRef> flat;
-  flat.reserve(factors.size() + 4);
-  for (ExprRef f : factors)
-    flattenInto(ExprKind::Mul, f, flat);
+  std::vector<ExprRef> flat = flatten(ExprKind::Mul, factors);
 
   // Split every factor into base ^ integer exponent; anything else is its
   // own base with exponent 1.

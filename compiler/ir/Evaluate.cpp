@@ -58,24 +58,6 @@ std::string powProblem(double a, double b) {
   return {};
 }
 
-bool compareValues(CompareKind c, double a, double b) {
-  switch (c) {
-  case CompareKind::Lt:
-    return a < b;
-  case CompareKind::Le:
-    return a <= b;
-  case CompareKind::Gt:
-    return a > b;
-  case CompareKind::Ge:
-    return a >= b;
-  case CompareKind::Eq:
-    return a == b;
-  case CompareKind::Ne:
-    return a != b;
-  }
-  return false;
-}
-
 class Evaluator {
 public:
   Evaluator(const EvalEnv &env, const NameResolver *names)
@@ -230,8 +212,8 @@ private:
       return true;
     }
     case ExprKind::Compare:
-      done(e, compareValues(e->compare(), value(e->operand(0)),
-                            value(e->operand(1)))
+      done(e, applyCompare(e->compare(), value(e->operand(0)),
+                           value(e->operand(1)))
                   ? 1
                   : 0);
       return true;
@@ -294,6 +276,24 @@ double applyFunc(FuncKind f, double a, double b) {
     return modValue(a, b);
   }
   return kNaN;
+}
+
+bool applyCompare(CompareKind c, double a, double b) {
+  switch (c) {
+  case CompareKind::Lt:
+    return a < b;
+  case CompareKind::Le:
+    return a <= b;
+  case CompareKind::Gt:
+    return a > b;
+  case CompareKind::Ge:
+    return a >= b;
+  case CompareKind::Eq:
+    return a == b;
+  case CompareKind::Ne:
+    return a != b;
+  }
+  return false;
 }
 
 Expected<double> evaluate(ExprRef e, const EvalEnv &env,

@@ -31,5 +31,7 @@ Expected<double> evaluate(ExprRef e, const EvalEnv &env,
 /// The value of a built-in at double arguments, NaN outside its domain
 /// (shared by the evaluator, constant folding and tests).
 double applyFunc(FuncKind f, double a, double b = 0);
+/// The value of `a <c> b`.
+bool applyCompare(CompareKind c, double a, double b);
 
 } // namespace ldae::ir

@@ -74,6 +74,8 @@ private:
   /// the arena. The only place nodes are made.
   ExprRef intern(ExprKind kind, uint8_t sub, uint32_t index, uint16_t order,
                  double value, std::span<const ExprRef> ops);
+  /// The body of logicalAnd (kind And) and logicalOr (kind Or).
+  ExprRef buildLogic(ExprKind kind, std::span<const ExprRef> ops);
 };
 
 } // namespace ldae::ir

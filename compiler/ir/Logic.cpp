@@ -12,24 +12,6 @@ namespace ldae::ir {
 
 namespace {
 
-bool compareValues(CompareKind c, double a, double b) {
-  switch (c) {
-  case CompareKind::Lt:
-    return a < b;
-  case CompareKind::Le:
-    return a <= b;
-  case CompareKind::Gt:
-    return a > b;
-  case CompareKind::Ge:
-    return a >= b;
-  case CompareKind::Eq:
-    return a == b;
-  case CompareKind::Ne:
-    return a != b;
-  }
-  return false;
-}
-
 CompareKind negateCompare(CompareKind c) {
   switch (c) {
   case CompareKind::Lt:
@@ -103,9 +85,9 @@ ExprRef ExprContext::ifThenElse(ExprRef cond, ExprRef then, ExprRef otherwise) {
 
 ExprRef ExprContext::compare(CompareKind c, ExprRef a, ExprRef b) {
   if (a->isConstant() && b->isConstant())
-    return constant(compareValues(c, a->constant(), b->constant()) ? 1 : 0);
+    return constant(applyCompare(c, a->constant(), b->constant()) ? 1 : 0);
   if (a == b && isTotal(a))
-    return constant(compareValues(c, 0, 0) ? 1 : 0);
+    return constant(applyCompare(c, 0, 0) ? 1 : 0);
   ExprRef ops[] = {a, b};
   return intern(ExprKind::Compare, static_cast<uint8_t>(c), 0, 0, 0, ops);
 }
@@ -144,20 +126,27 @@ LogicParts collectLogic(ExprKind kind, std::span<const ExprRef> in,
 
 } // namespace
 
-ExprRef ExprContext::logicalAnd(std::span<const ExprRef> in) {
-  LogicParts parts = collectLogic(ExprKind::And, in, false);
+ExprRef ExprContext::buildLogic(ExprKind kind, std::span<const ExprRef> in) {
+  // and: false absorbs, true is neutral; or: the other way round.
+  bool isAnd = kind == ExprKind::And;
+  ExprRef absorbing = isAnd ? zero() : one();
+  LogicParts parts = collectLogic(kind, in, !isAnd);
   bool allTotal = std::all_of(parts.ops.begin(), parts.ops.end(),
                               [&](ExprRef e) { return isTotal(e); });
   if (parts.absorbed) {
     if (allTotal)
-      return zero();
-    parts.ops.insert(parts.ops.begin(), zero());
+      return absorbing;
+    parts.ops.insert(parts.ops.begin(), absorbing);
   }
   if (parts.ops.empty())
-    return one();
+    return isAnd ? one() : zero();
   if (parts.ops.size() == 1 && parts.ops[0]->isBoolean())
     return parts.ops[0];
-  return intern(ExprKind::And, 0, 0, 0, 0, parts.ops);
+  return intern(kind, 0, 0, 0, 0, parts.ops);
+}
+
+ExprRef ExprContext::logicalAnd(std::span<const ExprRef> in) {
+  return buildLogic(ExprKind::And, in);
 }
 
 ExprRef ExprContext::logicalAnd(ExprRef a, ExprRef b) {
@@ -166,19 +155,7 @@ ExprRef ExprContext::logicalAnd(ExprRef a, ExprRef b) {
 }
 
 ExprRef ExprContext::logicalOr(std::span<const ExprRef> in) {
-  LogicParts parts = collectLogic(ExprKind::Or, in, true);
-  bool allTotal = std::all_of(parts.ops.begin(), parts.ops.end(),
-                              [&](ExprRef e) { return isTotal(e); });
-  if (parts.absorbed) {
-    if (allTotal)
-      return one();
-    parts.ops.insert(parts.ops.begin(), one());
-  }
-  if (parts.ops.empty())
-    return zero();
-  if (parts.ops.size() == 1 && parts.ops[0]->isBoolean())
-    return parts.ops[0];
-  return intern(ExprKind::Or, 0, 0, 0, 0, parts.ops);
+  return buildLogic(ExprKind::Or, in);
 }
 
 ExprRef ExprContext::logicalOr(ExprRef a, ExprRef b) {

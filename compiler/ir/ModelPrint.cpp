@@ -32,16 +32,6 @@ namespace {
 
 std::string boolText(double v) { return v != 0 ? "true" : "false"; }
 
-std::string quoteString(const std::string &s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
-
 std::string variableDecl(const Variable &v) {
   std::string type = v.isBoolean    ? "Boolean"
                      : v.isInteger  ? "Integer"
@@ -61,7 +51,7 @@ std::string variableDecl(const Variable &v) {
   if (v.max != INFINITY)
     attrs.push_back("max = " + printNumber(v.max));
   if (!v.unit.empty())
-    attrs.push_back("unit = " + quoteString(v.unit));
+    attrs.push_back("unit = " + printString(v.unit));
   if (v.stateSelect != StateSelect::Default)
     attrs.push_back(std::string("stateSelect = StateSelect.") +
                     stateSelectName(v.stateSelect));

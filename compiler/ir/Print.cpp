@@ -416,6 +416,21 @@ private:
 
 } // namespace
 
+namespace {
+
+/// `text` between `quote` characters, escaping the quote and backslash.
+std::string quoteWith(const std::string &text, char quote) {
+  std::string out(1, quote);
+  for (char c : text) {
+    if (c == quote || c == '\\')
+      out += '\\';
+    out += c;
+  }
+  return out + quote;
+}
+
+} // namespace
+
 std::string printNumber(double v) {
   if (std::isnan(v))
     return "nan";
@@ -438,15 +453,11 @@ std::string printIdentifier(const std::string &name) {
                            c == '_';
                   }) &&
       !keywords().count(name);
-  if (plain)
-    return name;
-  std::string quoted = "'";
-  for (char c : name) {
-    if (c == '\'' || c == '\\')
-      quoted += '\\';
-    quoted += c;
-  }
-  return quoted + "'";
+  return plain ? name : quoteWith(name, '\'');
+}
+
+std::string printString(const std::string &text) {
+  return quoteWith(text, '"');
 }
 
 std::string printLsd(ExprRef e, const NameResolver *names) {

@@ -33,6 +33,8 @@ std::string printIdentifier(const std::string &name);
 /// nothing is left on a side it prints `0`. lhs - rhs rebuilds `residual`.
 std::string printEquation(ExprContext &ctx, ExprRef residual,
                           const NameResolver *names = nullptr);
+/// `text` as an lsd string literal: `"V"`, with `"` and `\` escaped.
+std::string printString(const std::string &text);
 /// Compact debug form, e.g. `(+ #3 (* -1 #5))` with node ids.
 std::string printDebug(ExprRef e, const NameResolver *names = nullptr);
 /// A double as lsd prints it: shortest text that reads back exactly.

@@ -21,26 +21,31 @@ template <typename Pred> bool anyNode(ExprRef e, Pred &&pred) {
 
 } // namespace
 
-std::vector<VarKey> freeVariables(ExprRef e) {
-  std::vector<VarKey> keys;
+namespace {
+
+/// The sorted values `get(n)` of the nodes of `kind` below `e`.
+template <typename T, typename Get>
+std::vector<T> collectSorted(ExprRef e, ExprKind kind, Get &&get) {
+  std::vector<T> out;
   ExprRef roots[] = {e};
   postOrder(roots, [&](ExprRef n) {
-    if (n->kind() == ExprKind::Variable)
-      keys.push_back(n->varKey());
+    if (n->kind() == kind)
+      out.push_back(get(n));
   });
-  std::sort(keys.begin(), keys.end());
-  return keys;
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+} // namespace
+
+std::vector<VarKey> freeVariables(ExprRef e) {
+  return collectSorted<VarKey>(e, ExprKind::Variable,
+                               [](ExprRef n) { return n->varKey(); });
 }
 
 std::vector<ParamId> freeParameters(ExprRef e) {
-  std::vector<ParamId> params;
-  ExprRef roots[] = {e};
-  postOrder(roots, [&](ExprRef n) {
-    if (n->kind() == ExprKind::Parameter)
-      params.push_back(n->param());
-  });
-  std::sort(params.begin(), params.end());
-  return params;
+  return collectSorted<ParamId>(e, ExprKind::Parameter,
+                                [](ExprRef n) { return n->param(); });
 }
 
 bool dependsOn(ExprRef e, VarKey key) {

@@ -41,6 +41,8 @@ TEST(PrintIdentifier, QuotesFlatNames) {
   EXPECT_EQ(printIdentifier("end"), "'end'");
   EXPECT_EQ(printIdentifier("it's"), "'it\\'s'");
   EXPECT_EQ(printIdentifier("1x"), "'1x'");
+  EXPECT_EQ(printString("N.m"), "\"N.m\"");
+  EXPECT_EQ(printString("a\"b\\"), "\"a\\\"b\\\\\"");
 }
 
 struct Names : NameResolver {
