@@ -48,7 +48,7 @@ template <typename D> ExprRef chainRule(ExprContext &ctx, ExprRef e, D &&d) {
     ExprRef a = e->operand(0), b = e->operand(1);
     ExprRef da = d(a), db = d(b);
     ExprRef result = ctx.zero();
-    if (!isZero(da)) {
+    if (!isZero(da) && !isZero(b)) { // a^0 is constant where defined
       // b * a^(b-1) * a'
       ExprRef factors[] = {b, ctx.pow(a, ctx.sub(b, ctx.one())), da};
       result = ctx.mul(factors);

@@ -156,6 +156,9 @@ TEST(Differentiate, PiecewiseRulesAreSymbolic) {
   EXPECT_EQ(printLsd(d.partial(c.call(FuncKind::Mod, x, y), {1, 0})),
             "-floor(v0 / v1)");
   EXPECT_EQ(printLsd(d.partial(c.pow(x, c.constant(3)), {0, 0})), "3 * v0^2");
+  // A kept log(x)^0 is constant where defined: its derivative is 0.
+  ExprRef zeroPower = c.pow(c.call(FuncKind::Log, x), c.zero());
+  EXPECT_EQ(d.partial(zeroPower, {0, 0}), c.zero());
   // General power: both terms.
   EXPECT_EQ(printLsd(d.partial(c.pow(x, y), {1, 0})), "v0^v1 * log(v0)");
 }
