@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <string>
 
 using namespace ldae;
@@ -109,6 +110,10 @@ int main(int argc, char **argv) {
     SourceManager sm;
     DiagnosticEngine diags(sm);
     passes::PipelineOptions opts;
+    if (std::getenv("LDAE_TIME_PASSES")) {
+      opts.timePasses = true;
+      opts.log = &std::cerr;
+    }
     passes::AnalysisResult result;
     auto t0 = std::chrono::steady_clock::now();
     bool ok = passes::runPipeline(m, opts, diags, result);

@@ -152,7 +152,11 @@ Pantelides::Result Pantelides::run(const DifferentiateRow &differentiate) {
   // contradicts the structure, reported instead of looping.
   const int limit = n + 1;
   for (int k = 0; k < n; ++k) {
+    // An equation differentiated while matching an earlier one is
+    // represented by its highest derivative.
     int row = k;
+    while (eqDiff_[row] >= 0)
+      row = eqDiff_[row];
     for (int times = 0; m_.rowMate[row] < 0; ++times) {
       if (times > limit) {
         result.status = Status::NoProgress;

@@ -7,6 +7,7 @@
 // first name (never the declaration order, so shuffling changes nothing).
 // The removed variables become outputs of the system.
 #include "passes/AnalysisState.h"
+#include "passes/SystemStructure.h"
 
 #include "ir/Query.h"
 #include "ir/Substitute.h"
@@ -44,17 +45,35 @@ std::optional<std::pair<ir::VarId, double>> unitVariable(ir::ExprRef e) {
   return std::nullopt;
 }
 
+/// True if `e` reads no variable, `pre` or time: parameters and constants.
 bool isConstantTerm(ir::ExprRef e) {
-  if (!ir::freeVariables(e).empty() || ir::dependsOnTime(e))
-    return false;
-  for (ir::ExprRef n : ir::topologicalOrder(std::span<const ir::ExprRef>(&e, 1)))
-    if (n->kind() == ir::ExprKind::Pre)
+  std::vector<ir::ExprRef> stack{e};
+  while (!stack.empty()) {
+    ir::ExprRef n = stack.back();
+    stack.pop_back();
+    switch (n->kind()) {
+    case ir::ExprKind::Variable:
+    case ir::ExprKind::Time:
+    case ir::ExprKind::Pre:
       return false;
+    default:
+      for (ir::ExprRef op : n->operands())
+        stack.push_back(op);
+    }
+  }
   return true;
 }
 
 std::optional<AliasEquation> matchAlias(ir::ExprContext &ctx,
                                         ir::ExprRef residual, int eq) {
+  if (residual->kind() == ir::ExprKind::Add) {
+    // At most one term may be something other than +-variable.
+    int others = 0;
+    for (ir::ExprRef t : residual->operands())
+      others += unitVariable(t) ? 0 : 1;
+    if (others > 1 || residual->numOperands() - others > 2)
+      return std::nullopt;
+  }
   std::vector<ir::ExprRef> terms;
   if (residual->kind() == ir::ExprKind::Add)
     terms.assign(residual->operands().begin(), residual->operands().end());
@@ -133,7 +152,7 @@ bool runAliasElimination(AnalysisState &s) {
       reinitTarget[r.var] = 1;
   std::vector<int> maxOrder(nv, 0);
   for (const ir::Equation &e : m.equations)
-    for (ir::VarKey k : ir::freeVariables(e.residual))
+    for (ir::VarKey k : variablesOf(e.residual))
       maxOrder[k.var] = std::max<int>(maxOrder[k.var], k.order);
 
   std::vector<AliasEquation> found;
@@ -285,6 +304,16 @@ bool runAliasElimination(AnalysisState &s) {
   if (s.diags.hasErrors())
     return false;
 
+  std::sort(s.aliases.begin(), s.aliases.end(),
+            [&](const Alias &x, const Alias &y) {
+              return m.variables[x.var].name < m.variables[y.var].name;
+            });
+  s.result.aliasesRemoved = static_cast<int>(s.aliases.size());
+  for (const Alias &a : s.aliases)
+    s.result.aliases.push_back(m.variables[a.var].name + " = " +
+                               ir::printLsd(a.value, &m));
+  if (s.aliases.empty())
+    return true;
   // Apply: drop the alias equations, rewrite everything else.
   std::vector<ir::Equation> kept;
   for (size_t i = 0; i < m.equations.size(); ++i) {
@@ -316,14 +345,6 @@ bool runAliasElimination(AnalysisState &s) {
       e.residual = subst.apply(e.residual);
   }
 
-  std::sort(s.aliases.begin(), s.aliases.end(),
-            [&](const Alias &x, const Alias &y) {
-              return m.variables[x.var].name < m.variables[y.var].name;
-            });
-  s.result.aliasesRemoved = static_cast<int>(s.aliases.size());
-  for (const Alias &a : s.aliases)
-    s.result.aliases.push_back(m.variables[a.var].name + " = " +
-                               ir::printLsd(a.value, &m));
   return true;
 }
 

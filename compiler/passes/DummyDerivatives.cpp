@@ -16,6 +16,7 @@
 // y), every structurally possible choice becomes a candidate state set for
 // dynamic state selection at run time.
 #include "passes/AnalysisState.h"
+#include "passes/SystemStructure.h"
 
 #include "graph/DulmageMendelsohn.h"
 #include "graph/Matching.h"
@@ -95,12 +96,14 @@ private:
     return static_cast<int>(
         s_.model.variables[s_.unknowns[j]].stateSelect);
   }
+  /// The symbolic Jacobian entry (row r, column c) of `lv`, or nullptr.
   ir::ExprRef entry(const Level &lv, int r, int c) const;
+  bool hasEntry(const Level &lv, int r, int c) const;
   bool fixDense(Level &lv, int levelIndex, graph::Matching &m,
                 const std::vector<char> &forcedCol);
 
   AnalysisState &s_;
-  ir::Differentiator diff_;
+  mutable ir::Differentiator diff_;
   std::vector<Level> levels_;
 };
 
@@ -139,29 +142,40 @@ void Selector::buildLevels() {
     lv.g = graph::BipartiteGraph(static_cast<int>(lv.row.size()),
                                  static_cast<int>(lv.colVar.size()));
     lv.edges.resize(lv.row.size());
-    // Group edges by column so the differentiator's cache is reused.
-    std::vector<std::vector<int>> rowsOfCol(lv.colVar.size());
-    for (size_t r = 0; r < lv.row.size(); ++r)
-      for (ir::VarKey k : ir::freeVariables(s_.rows[lv.row[r]].residual)) {
+    // Entry values by finite differences at the start point: symbolic
+    // partials are only needed for the small value-dependent blocks (the
+    // differentiator's cache is per variable, so one partial per column
+    // would cost the whole DAG each time).
+    for (size_t r = 0; r < lv.row.size(); ++r) {
+      ir::ExprRef e = s_.rows[lv.row[r]].residual;
+      std::vector<std::pair<ir::VarKey, int>> keys;
+      for (ir::VarKey k : variablesOf(e)) {
         if (k.var >= s_.unknownIndex.size() || s_.unknownIndex[k.var] < 0)
           continue;
         int j = s_.unknownIndex[k.var];
         int c = lv.colOfVar[j];
         if (c >= 0 && static_cast<int>(k.order) == s_.highest[j] - l)
-          rowsOfCol[c].push_back(static_cast<int>(r));
+          keys.emplace_back(k, c);
       }
-    for (size_t c = 0; c < lv.colVar.size(); ++c) {
-      int j = lv.colVar[c];
-      ir::VarKey key{s_.unknowns[j], static_cast<unsigned>(s_.highest[j] - l)};
-      for (int r : rowsOfCol[c]) {
-        ir::ExprRef d = diff_.partial(s_.rows[lv.row[r]].residual, key);
-        if (d->isConstant(0))
-          continue; // cancelled
-        auto v = ir::evaluate(d, env);
-        lv.edges[r].push_back(
-            {static_cast<int>(c), d,
-             v ? *v : std::numeric_limits<double>::quiet_NaN()});
+      if (keys.empty())
+        continue;
+      ir::VarKey bumped{~0u, ~0u};
+      double h = 0;
+      ir::EvalEnv fd = env;
+      fd.variable = [&](ir::VarKey k) {
+        double v = env.variable(k);
+        return k == bumped ? v + h : v;
+      };
+      auto base = ir::evaluate(e, fd);
+      for (auto [k, c] : keys) {
+        bumped = k;
+        h = 1e-7 * std::max(1.0, std::fabs(env.variable(k)));
+        auto up = ir::evaluate(e, fd);
+        double v = base && up ? (*up - *base) / h
+                              : std::numeric_limits<double>::quiet_NaN();
+        lv.edges[r].push_back({c, nullptr, v});
       }
+      bumped = {~0u, ~0u};
     }
     // Preference order inside each row: the candidate to make a dummy first.
     for (size_t r = 0; r < lv.row.size(); ++r) {
@@ -187,9 +201,20 @@ void Selector::buildLevels() {
 
 ir::ExprRef Selector::entry(const Level &lv, int r, int c) const {
   for (const Edge &e : lv.edges[r])
-    if (e.col == c)
-      return e.partial;
+    if (e.col == c) {
+      int j = lv.colVar[c];
+      int l = static_cast<int>(&lv - levels_.data()) + 1;
+      ir::VarKey key{s_.unknowns[j], static_cast<unsigned>(s_.highest[j] - l)};
+      return diff_.partial(s_.rows[lv.row[r]].residual, key);
+    }
   return nullptr;
+}
+
+bool Selector::hasEntry(const Level &lv, int r, int c) const {
+  for (const Edge &e : lv.edges[r])
+    if (e.col == c)
+      return true;
+  return false;
 }
 
 // Dense column-pivoted elimination of the components of level `lv` whose
@@ -284,7 +309,7 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
       chosenCols.push_back(piece.cols[k]);
     for (int r = 0; r < nr; ++r)
       for (int k = 0; k < nr; ++k)
-        if (entry(lv, piece.rows[r], chosenCols[k]))
+        if (hasEntry(lv, piece.rows[r], chosenCols[k]))
           sub.addEdge(r, k);
     graph::Matching sm = graph::maximumMatching(sub);
     if (sm.size < nr) {
@@ -384,7 +409,8 @@ void Selector::findAmbiguous(const std::vector<int> &topSelection) {
     bool valueDependent = false;
     for (int r : piece.rows)
       for (const Edge &e : top.edges[r])
-        valueDependent = valueDependent || !e.partial->isConstant();
+        valueDependent =
+            valueDependent || !entry(top, r, e.col)->isConstant();
     if (!valueDependent)
       continue;
     // Generic values: a random point, so only identically singular choices
@@ -403,7 +429,7 @@ void Selector::findAmbiguous(const std::vector<int> &topSelection) {
         int k = static_cast<int>(
             std::find(piece.cols.begin(), piece.cols.end(), e.col) -
             piece.cols.begin());
-        auto v = ir::evaluate(e.partial, env);
+        auto v = ir::evaluate(entry(top, piece.rows[r], e.col), env);
         A(r, k) = v ? *v : 0;
       }
     // Columns by name so the alternatives come in a canonical order.

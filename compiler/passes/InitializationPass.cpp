@@ -31,7 +31,7 @@ struct InitSystem {
   std::vector<ir::ExprRef> expr; // residual rows (nullptr for fixed rows)
   std::vector<int> fixedUnknown; // per row: the fixed unknown or -1
   std::vector<SourceLoc> loc;
-  std::vector<std::string> text;
+  std::vector<std::string> text; // empty: print `expr` when needed
   std::vector<double> start; // per column
   std::vector<std::string> colName;
   std::vector<int> colOfDerivative; // unknown -> column of y' or -1
@@ -137,7 +137,7 @@ bool runInitialization(AnalysisState &s) {
     if (fixed >= 0) {
       cols.push_back(fixed);
     } else {
-      for (ir::VarKey k : ir::freeVariables(e)) {
+      for (ir::VarKey k : variablesOf(e)) {
         SlotRead sr = layout.read(k);
         if (sr.unknown < 0)
           continue;
@@ -156,7 +156,7 @@ bool runInitialization(AnalysisState &s) {
   for (size_t r = 0; r < st.residuals.size(); ++r)
     addRow(st.residuals[r], -1,
            r < sys.residualLocs.size() ? sys.residualLocs[r] : SourceLoc{},
-           ir::printLsd(st.residuals[r], &s.model) + " = 0");
+           "");
   const int firstFixed = is.g.numRows();
   for (int u = 0; u < n; ++u)
     if (sys.unknowns[u].fixed) {
@@ -183,6 +183,11 @@ bool runInitialization(AnalysisState &s) {
   rep.equations = is.g.numRows();
   rep.dof = rep.unknowns - rep.equations;
 
+  auto textOf = [&](int r) {
+    if (is.text[r].empty())
+      is.text[r] = ir::printLsd(is.expr[r], &s.model) + " = 0";
+    return is.text[r];
+  };
   graph::Matching m = graph::maximumMatching(is.g);
   for (int r = firstFixed; r < firstInitial; ++r)
     if (m.rowMate[r] >= 0)
@@ -196,7 +201,7 @@ bool runInitialization(AnalysisState &s) {
     if (fixedRows.empty()) {
       SingularityNames names;
       names.rowLoc = [&](int r) { return is.loc[r]; };
-      names.rowText = [&](int r) { return is.text[r]; };
+      names.rowText = textOf;
       names.colName = [&](int c) { return is.colName[c]; };
       names.colLoc = [&](int c) {
         return c < n ? sys.unknowns[c].loc : SourceLoc{};
@@ -228,7 +233,7 @@ bool runInitialization(AnalysisState &s) {
       for (int r : dm.over.rows)
         if (is.fixedUnknown[r] < 0)
           DiagnosticEngine::addNote(d, is.loc[r], DiagId::NoteEquationInvolved,
-                                    {is.text[r]});
+                                    {textOf(r)});
       rep.consistent = false;
       return false;
     }

@@ -4,6 +4,7 @@
 // is exactly the condition under which Pantelides' algorithm ends; the
 // "dm" pass explains a failure.
 #include "passes/AnalysisState.h"
+#include "passes/SystemStructure.h"
 
 #include "graph/Matching.h"
 #include "ir/Query.h"
@@ -31,10 +32,10 @@ bool runMatching(AnalysisState &s) {
   for (size_t j = 0; j < s.unknowns.size(); ++j)
     s.unknownIndex[s.unknowns[j]] = static_cast<int>(j);
 
-  // Equation keys: the unknowns they contain (names and orders), then the
-  // user's text, then the printed residual.
+  // Equation keys: the unknowns they contain (canonical rank and order),
+  // then the user's text, then the printed residual.
   struct Key {
-    std::vector<std::pair<std::string, unsigned>> vars;
+    std::vector<std::pair<int, unsigned>> vars;
     std::string text;
     std::string printed;
     auto operator<=>(const Key &) const = default;
@@ -43,26 +44,26 @@ bool runMatching(AnalysisState &s) {
   std::vector<Key> keys(ne);
   std::vector<std::vector<ir::VarKey>> inc(ne);
   for (size_t i = 0; i < ne; ++i) {
-    for (ir::VarKey k : ir::freeVariables(m.equations[i].residual))
+    for (ir::VarKey k : variablesOf(m.equations[i].residual))
       if (k.var < nv && s.unknownIndex[k.var] >= 0) {
         inc[i].push_back(k);
-        keys[i].vars.emplace_back(m.variables[k.var].name, k.order);
+        keys[i].vars.emplace_back(s.unknownIndex[k.var], k.order);
       }
     std::sort(keys[i].vars.begin(), keys[i].vars.end());
-    keys[i].text = m.equations[i].text;
   }
   s.equations.resize(ne);
   std::iota(s.equations.begin(), s.equations.end(), 0);
-  // Printing is costly: only equations whose cheaper keys tie need it.
-  std::sort(s.equations.begin(), s.equations.end(), [&](int a, int b) {
-    return std::tie(keys[a].vars, keys[a].text) <
-           std::tie(keys[b].vars, keys[b].text);
-  });
+  std::sort(s.equations.begin(), s.equations.end(),
+            [&](int a, int b) { return keys[a].vars < keys[b].vars; });
+  // Texts and printed residuals only where the cheaper key ties.
   for (size_t i = 0; i + 1 < ne; ++i) {
     int a = s.equations[i], b = s.equations[i + 1];
-    if (keys[a].vars == keys[b].vars && keys[a].text == keys[b].text) {
-      keys[a].printed = ir::printLsd(m.equations[a].residual, &m);
-      keys[b].printed = ir::printLsd(m.equations[b].residual, &m);
+    if (keys[a].vars == keys[b].vars) {
+      for (int e : {a, b}) {
+        keys[e].text = m.equations[e].text;
+        if (keys[e].printed.empty())
+          keys[e].printed = ir::printLsd(m.equations[e].residual, &m);
+      }
     }
   }
   std::stable_sort(s.equations.begin(), s.equations.end(),

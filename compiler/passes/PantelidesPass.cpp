@@ -5,6 +5,7 @@
 // (ir::Differentiator::timeDerivative) as the algorithm asks, so the
 // incidence of a derivative is what the symbolic layer finds.
 #include "passes/AnalysisState.h"
+#include "passes/SystemStructure.h"
 
 #include "graph/Pantelides.h"
 #include "ir/Differentiate.h"
@@ -37,7 +38,7 @@ bool runPantelides(AnalysisState &s) {
   s.rows.clear();
   auto incidence = [&](ir::ExprRef e, graph::Pantelides *p) {
     std::vector<int> cols;
-    for (ir::VarKey k : ir::freeVariables(e)) {
+    for (ir::VarKey k : variablesOf(e)) {
       if (k.var >= s.unknownIndex.size() || s.unknownIndex[k.var] < 0)
         continue;
       int j = s.unknownIndex[k.var];

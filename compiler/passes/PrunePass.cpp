@@ -26,7 +26,7 @@ bool runPrune(AnalysisState &s) {
   };
   SystemLayout layout0(sys, 0);
   for (const ir::SystemOutput &o : sys.outputs)
-    for (ir::VarKey k : ir::freeVariables(o.value))
+    for (ir::VarKey k : variablesOf(o.value))
       want(layout0.read(k).unknown);
   std::vector<graph::BipartiteGraph> reads;
   for (size_t set = 0; set < sys.stateSets.size(); ++set)
@@ -73,7 +73,7 @@ bool runPrune(AnalysisState &s) {
   }
   // Constraints and initial conditions that read pruned unknowns go too.
   auto keepsOnly = [&](ir::ExprRef e) {
-    for (ir::VarKey k : ir::freeVariables(e)) {
+    for (ir::VarKey k : variablesOf(e)) {
       SlotRead sr = layout0.read(k);
       if (sr.unknown >= 0 && !need[sr.unknown])
         return false;

@@ -11,6 +11,7 @@
 // y and as a y' entry. Where such an order is not a dummy, a link residual
 // `der(previous slot) - slot` ties it to its derivative.
 #include "passes/AnalysisState.h"
+#include "passes/SystemStructure.h"
 
 #include "ir/Query.h"
 #include "ir/Substitute.h"
@@ -37,7 +38,7 @@ void collectRoots(ir::ExprContext &ctx, std::span<const ir::ExprRef> roots,
     ir::ExprRef c = n->operand(0);
     if (c->kind() != ir::ExprKind::Compare)
       continue;
-    if (ir::freeVariables(c).empty() && !ir::dependsOnTime(c))
+    if (variablesOf(c).empty() && !ir::dependsOnTime(c))
       continue;
     ir::ExprRef r = ctx.sub(c->operand(0), c->operand(1));
     if (seen.insert(r).second)
@@ -59,7 +60,10 @@ bool buildSystem(AnalysisState &s) {
   sys.ctx = m.sharedCtx();
   sys.model = &m;
 
-  ir::Substitution subst(ctx);
+  VarSubstitution subst(ctx);
+  auto set = [&](ir::ExprRef from, ir::ExprRef to) {
+    subst.set(from->varKey(), to);
+  };
   std::vector<Slots> slots(nu);
   for (size_t j = 0; j < nu; ++j) {
     const ir::VarId v = s.unknowns[j];
@@ -76,7 +80,7 @@ bool buildSystem(AnalysisState &s) {
       if (!slot) {
         // The top order read as the derivative of the slot below.
         if (k >= 2)
-          subst.set(ctx.var(v, k), ctx.var(sl.keys.back().var, 1));
+          set(ctx.var(v, k), ctx.var(sl.keys.back().var, 1));
         continue;
       }
       sl.orders.push_back(k);
@@ -94,7 +98,7 @@ bool buildSystem(AnalysisState &s) {
       ir::VarId fv = m.addVariable(f);
       sl.keys.push_back({fv, 0});
       sl.fresh.push_back(true);
-      subst.set(ctx.var(v, k), ctx.var(fv, 0));
+      set(ctx.var(v, k), ctx.var(fv, 0));
     }
   }
 

@@ -7,10 +7,34 @@
 #include "graph/BipartiteGraph.h"
 #include "ir/DaeSystem.h"
 
-#include <map>
+#include <unordered_map>
 #include <vector>
 
 namespace ldae::passes {
+
+/// The distinct Variable nodes of `e`, sorted: ir::freeVariables for the
+/// many small residuals of a model, without a per-call cost in the size of
+/// the whole context.
+std::vector<ir::VarKey> variablesOf(ir::ExprRef e);
+
+/// Replaces Variable nodes by expressions, memoized by node id in a dense
+/// table (one residual after another over a shared DAG, so every node is
+/// rebuilt once).
+class VarSubstitution {
+public:
+  explicit VarSubstitution(ir::ExprContext &ctx) : ctx_(ctx) {}
+  void set(ir::VarKey from, ir::ExprRef to);
+  bool empty() const { return map_.empty(); }
+  ir::ExprRef apply(ir::ExprRef e);
+
+private:
+  static uint64_t code(ir::VarKey k) {
+    return (static_cast<uint64_t>(k.var) << 16) | k.order;
+  }
+  ir::ExprContext &ctx_;
+  std::unordered_map<uint64_t, ir::ExprRef> map_;
+  std::vector<ir::ExprRef> memo_; // by node id
+};
 
 /// Where a Variable node is read from under the layout rule.
 struct SlotRead {
@@ -27,8 +51,11 @@ public:
   SlotRead read(ir::VarKey key) const;
 
 private:
-  std::map<ir::VarKey, int> slot_;
-  std::map<ir::VarKey, int> derivative_;
+  static uint64_t code(ir::VarKey k) {
+    return (static_cast<uint64_t>(k.var) << 16) | k.order;
+  }
+  std::unordered_map<uint64_t, int> slot_;
+  std::unordered_map<uint64_t, int> derivative_;
 };
 
 /// Rows: residuals of set `set`; columns: unknowns. With `solved` only the

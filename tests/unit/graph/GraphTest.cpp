@@ -278,3 +278,32 @@ TEST(Pantelides, MattssonSoderlindExample) {
   EXPECT_EQ(p.timesDifferentiated(2), 1);
   EXPECT_EQ(p.timesDifferentiated(3), 0);
 }
+
+TEST(Pantelides, DoublePendulumChain) {
+  // Two bodies on rods: body 1 hangs from the origin, body 2 from body 1.
+  enum { X1, Y1, U1, V1, L1, X2, Y2, U2, V2, L2,
+         DX1, DY1, DU1, DV1, DX2, DY2, DU2, DV2 };
+  // Row order matters: the second constraint comes before the second
+  // body's kinematic rows, which its differentiation differentiates too.
+  BipartiteGraph g = makeGraph(18, {
+      {DX1, U1}, {DY1, V1},
+      {DU1, L1, X1, L2, X2}, {DV1, L1, Y1, L2, Y2},
+      {X1, Y1},
+      {X1, X2, Y1, Y2},
+      {DU2, L2, X1, X2}, {DV2, L2, Y1, Y2},
+      {DX2, U2}, {DY2, V2},
+  });
+  std::vector<int> vd(18, -1);
+  vd[X1] = DX1; vd[Y1] = DY1; vd[U1] = DU1; vd[V1] = DV1;
+  vd[X2] = DX2; vd[Y2] = DY2; vd[U2] = DU2; vd[V2] = DV2;
+  Pantelides p(g, vd);
+  ASSERT_EQ(p.run(structuralHook(p)).status, Pantelides::Status::Ok);
+  EXPECT_EQ(p.timesDifferentiated(4), 2);
+  EXPECT_EQ(p.timesDifferentiated(5), 2);
+  EXPECT_EQ(p.timesDifferentiated(0), 1);
+  EXPECT_EQ(p.timesDifferentiated(8), 1);
+  EXPECT_EQ(p.timesDifferentiated(9), 1);
+  EXPECT_EQ(p.timesDifferentiated(2), 0);
+  EXPECT_EQ(p.timesDifferentiated(6), 0);
+  EXPECT_EQ(p.graph().numRows(), 10 + 2 + 2 + 4);
+}
