@@ -9,9 +9,16 @@ build=${1:-$root/build}
 bin=$build/bench/ir_bench
 [ -x "$bin" ] || { echo "run_ir.sh: $bin not built (ninja -C $build ir_bench)" >&2; exit 2; }
 
-# Five runs per size; the figures keep the fastest (the machine is shared).
-small=$(for i in 1 2 3 4 5; do "$bin" 100000; done)
-large=$(for i in 1 2 3 4 5; do "$bin" 1000000; done)
+# Seven runs per size, interleaved so both sizes see the same machine; the
+# figures keep the fastest (the machine is shared with other jobs).
+small=""
+large=""
+for i in 1 2 3 4 5 6 7; do
+  small="$small$("$bin" 100000)
+"
+  large="$large$("$bin" 1000000)
+"
+done
 echo "1e5:"; echo "$small"
 echo "1e6:"; echo "$large"
 
@@ -35,7 +42,7 @@ A chain `e[k+1] = e[k] * sin(e[k-1]) + x[k mod 10]` built through the simplifyin
 builders until the context holds N nodes (each step shares the two previous
 results, so the unfolded tree is exponential), then its total time
 derivative and the partial derivative by `x[3]` (memoized, iterative).
-Times are CPU seconds of the benchmark thread, the fastest of five runs.
+Times are CPU seconds of the benchmark thread, the fastest of seven interleaved runs.
 
 | | N = {int(s['nodes'])} | N = {int(l['nodes'])} | ratio |
 |---|---:|---:|---:|

@@ -92,6 +92,13 @@ private:
   double value_ = 0;
   size_t hash_ = 0;
   const ExprRef *ops_ = nullptr; // owned by the context's arena
+  // Bookkeeping of the owning context, not part of the value: the uniquing
+  // list of nodes with this one as pivot (see ExprContext::intern) and
+  // whether the node is total (ExprContext::isTotal).
+  mutable const Expr *firstUser_ = nullptr;
+  mutable const Expr *nextUser_ = nullptr;
+  mutable uint8_t userCount_ = 0;
+  bool total_ = false;
 };
 
 /// Orders expressions by creation id: use for every sorted container.

@@ -18,10 +18,11 @@ size_t mix(size_t h, size_t v) {
 }
 
 /// See ExprContext::isTotal: finite and defined for all finite leaves.
-bool computeTotal(ExprRef e, const std::vector<uint8_t> &total) {
+/// `totalOf` gives the fact for the operands.
+template <typename TotalOf> bool computeTotal(ExprRef e, TotalOf &&totalOf) {
   auto opsTotal = [&] {
     for (ExprRef op : e->operands())
-      if (!total[op->id()])
+      if (!totalOf(op))
         return false;
     return true;
   };
@@ -66,8 +67,6 @@ HugeBlock::HugeBlock(size_t bytes) : size_(bytes) {
                  MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (p == MAP_FAILED)
     throw std::bad_alloc(); // out of memory: nothing sensible to recover
-  if (bytes >= (2u << 20))
-    madvise(p, bytes, MADV_HUGEPAGE); // a hint: failure is harmless
   data_ = static_cast<char *>(p);
 }
 
@@ -117,11 +116,10 @@ ExprRef ExprContext::intern(ExprKind kind, uint8_t sub, uint32_t index,
       pivot = op;
   bool local = false;
   if (pivot) {
-    uint32_t p = pivot->id();
-    for (ExprRef u = im.firstUser[p]; u; u = im.nextUser[u->id()])
+    for (ExprRef u = pivot->firstUser_; u; u = u->nextUser_)
       if (u->hash() == h && NodeEqual()(u, &probe))
         return u;
-    local = im.userCount[p] < kLocalUsers;
+    local = pivot->userCount_ < kLocalUsers;
   }
   if (!local)
     if (ExprRef found = im.table.find(probe))
@@ -135,18 +133,13 @@ ExprRef ExprContext::intern(ExprKind kind, uint8_t sub, uint32_t index,
     std::copy(ops.begin(), ops.end(), stored);
     node->ops_ = stored;
   }
-  assert(im.nodes.size() < UINT32_MAX && "too many expression nodes");
-  node->id_ = static_cast<uint32_t>(im.nodes.size());
-  im.nodes.push_back(node);
-  im.total.push_back(computeTotal(node, im.total));
-  im.firstUser.push_back(nullptr);
-  im.nextUser.push_back(nullptr);
-  im.userCount.push_back(0);
+  assert(im.count < UINT32_MAX && "too many expression nodes");
+  node->id_ = im.count++;
+  node->total_ = computeTotal(node, [](ExprRef op) { return op->total_; });
   if (local) {
-    uint32_t p = pivot->id();
-    im.nextUser.back() = im.firstUser[p];
-    im.firstUser[p] = node;
-    ++im.userCount[p];
+    node->nextUser_ = pivot->firstUser_;
+    pivot->firstUser_ = node;
+    ++pivot->userCount_;
   } else {
     im.table.insert(node);
   }
@@ -193,16 +186,12 @@ ExprRef ExprContext::pre(VarId v) {
   return intern(ExprKind::Pre, 0, v, 0, 0, {});
 }
 
-bool ExprContext::isTotal(ExprRef e) const { return impl_->total[e->id()]; }
+bool ExprContext::isTotal(ExprRef e) const { return e->total_; }
 
-size_t ExprContext::size() const { return impl_->nodes.size(); }
+size_t ExprContext::size() const { return impl_->count; }
 
 size_t ExprContext::memoryBytes() const {
-  const Impl &im = *impl_;
-  return im.arena.bytes() + im.table.bytes() +
-         im.nodes.capacity() * sizeof(ExprRef) + im.total.capacity() +
-         (im.firstUser.capacity() + im.nextUser.capacity()) * sizeof(ExprRef) +
-         im.userCount.capacity();
+  return impl_->arena.bytes() + impl_->table.bytes();
 }
 
 } // namespace ldae::ir

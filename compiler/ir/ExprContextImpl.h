@@ -28,9 +28,10 @@ inline bool isIntegral(double v) {
   return std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 9.0e15;
 }
 
-/// Zero-filled memory straight from the kernel, for big randomly accessed
-/// arrays (the node arena, the uniquing table): marked for transparent huge
-/// pages, since hash-consing a million-node DAG is bound by TLB misses.
+/// Zero-filled memory straight from the kernel, for the node arena and the
+/// uniquing table: no clearing pass and no copy when a table is replaced.
+/// (Transparent huge pages were tried: zeroing 2 MiB pages on first touch
+/// cost more than the TLB misses they saved.)
 class HugeBlock {
 public:
   HugeBlock() = default;
@@ -174,12 +175,7 @@ private:
 struct ExprContext::Impl {
   Arena arena;
   NodeTable table;
-  std::vector<ExprRef> nodes; // by id
-  std::vector<uint8_t> total; // by id: ExprContext::isTotal
-  // By id: the user list of a node as pivot (see intern): its newest user,
-  // the next older user with the same pivot, and the list's length.
-  std::vector<ExprRef> firstUser, nextUser;
-  std::vector<uint8_t> userCount;
+  uint32_t count = 0; // nodes made: the next id
   ExprRef time = nullptr;
   ExprRef zero = nullptr, one = nullptr, minusOne = nullptr;
 };
