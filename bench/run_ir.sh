@@ -23,7 +23,7 @@ echo "1e5:"; echo "$small"
 echo "1e6:"; echo "$large"
 
 python3 - "$root/docs/benchmarks.md" "$small" "$large" <<'PY'
-import re, sys, platform, datetime
+import os, re, sys, platform, datetime
 path, small, large = sys.argv[1], sys.argv[2], sys.argv[3]
 def parse(lines):
     runs = [{k: float(v) for k, v in (kv.split("=") for kv in line.split())}
@@ -43,6 +43,8 @@ builders until the context holds N nodes (each step shares the two previous
 results, so the unfolded tree is exponential), then its total time
 derivative and the partial derivative by `x[3]` (memoized, iterative).
 Times are CPU seconds of the benchmark thread, the fastest of seven interleaved runs.
+Load average during the run: {open('/proc/loadavg').read().split()[0]} on {os.cpu_count()} cores (a shared
+machine: single runs vary by up to ±50%, the fastest of seven by about ±15%).
 
 | | N = {int(s['nodes'])} | N = {int(l['nodes'])} | ratio |
 |---|---:|---:|---:|
