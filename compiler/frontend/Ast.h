@@ -24,6 +24,7 @@ enum class ExprKind {
   Ref,     // component reference: parts
   Call,    // name(args [for iterators]); der/initial/pure keep their name
   Binary,  // ops[0] binOp ops[1]
+  Sum,     // ops[0] +- ops[1] +- ...: `negated[k]` for a minus before ops[k]
   Unary,   // unOp ops[0]
   If,      // ops = cond, then, {cond, then}, else
   Array,   // {ops...} or {ops[0] for iterators}
@@ -74,6 +75,7 @@ struct Expr {
   BinOp binOp = BinOp::Add;
   UnOp unOp = UnOp::Neg;
   std::vector<ExprPtr> ops;
+  std::vector<bool> negated;              // Sum
   std::vector<Arg> args;                  // Call
   std::vector<ForIndex> iterators;        // Call (reduction), Array
   std::vector<std::vector<ExprPtr>> rows; // Matrix

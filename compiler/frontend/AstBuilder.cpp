@@ -645,8 +645,13 @@ private:
   }
 
   ast::ExprPtr arithmetic(LsdParser::ArithmeticExpressionContext *c) {
-    // Children: [addOp] term (addOp term)*
-    ast::ExprPtr e;
+    // Children: [addOp] term (addOp term)*. A chain is one n-ary Sum, so a
+    // printed sum of ten thousand flows is not ten thousand nested nodes.
+    auto terms = c->term();
+    if (terms.size() == 1)
+      return withSign(c->addOp().empty() ? nullptr : c->addOp(0), term(terms[0]),
+                      terms[0]);
+    auto e = make(ast::ExprKind::Sum, c);
     LsdParser::AddOpContext *pending = nullptr;
     for (ParseTree *child : c->children) {
       if (auto *op = dynamic_cast<LsdParser::AddOpContext *>(child)) {
@@ -656,11 +661,9 @@ private:
       auto *t = dynamic_cast<LsdParser::TermContext *>(child);
       if (!t)
         continue;
-      ast::ExprPtr rhs = term(t);
-      if (!e)
-        e = withSign(pending, std::move(rhs), t);
-      else
-        e = binary(addOp(pending->getText()), std::move(e), std::move(rhs), c);
+      std::string op = pending ? pending->getText() : "+";
+      e->negated.push_back(op == "-" || op == ".-");
+      e->ops.push_back(term(t));
       pending = nullptr;
     }
     return e;

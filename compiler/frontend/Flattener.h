@@ -56,8 +56,10 @@ using ModPtr = std::shared_ptr<const Mod>;
 struct Mod {
   const ast::Expr *value = nullptr;
   std::string text; // `name = value` as written, for binding equations
-  SourceLoc loc;
+  SourceLoc loc; // of the value
   uint32_t length = 1;
+  SourceLoc nameLoc; // of the modified name, `x` in `x(start = 1)`
+  uint32_t nameLength = 1;
   Scope scope;                // where `value` is evaluated
   std::vector<int64_t> index; // 1-based element of `value` to take
   bool each = false;

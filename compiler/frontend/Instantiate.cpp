@@ -120,6 +120,8 @@ ModPtr Flattener::makeMod(const ast::Modification *m, const Scope &scope) {
     auto inner = leaf ? std::make_shared<Mod>(*leaf) : std::make_shared<Mod>();
     inner->each = arg.each;
     inner->text = arg.text;
+    inner->nameLoc = arg.loc;
+    inner->nameLength = arg.length;
     inner->scope = scope;
     if (!inner->value) {
       inner->loc = arg.loc;
@@ -129,6 +131,8 @@ ModPtr Flattener::makeMod(const ast::Modification *m, const Scope &scope) {
     for (size_t k = arg.path.size() - 1; k > 0; --k) {
       auto wrap = std::make_shared<Mod>();
       wrap->loc = arg.loc;
+      wrap->nameLoc = arg.loc;
+      wrap->nameLength = arg.length;
       wrap->scope = scope;
       wrap->subs.emplace_back(arg.path[k], node);
       node = wrap;
@@ -441,11 +445,11 @@ void Flattener::elaborateInstance(InstNode &node) {
           names.push_back(m->name);
         std::string best = closestName(name, names);
         if (best.empty())
-          report(DiagId::ErrUnknownModifier, SourceRange{sub->loc, sub->length},
+          report(DiagId::ErrUnknownModifier, SourceRange{sub->nameLoc, sub->nameLength},
                         {name, node.cls->name});
         else
           report(DiagId::ErrUnknownModifierSuggest,
-                        SourceRange{sub->loc, sub->length}, {name, node.cls->name, best});
+                        SourceRange{sub->nameLoc, sub->nameLength}, {name, node.cls->name, best});
       }
   }
   for (auto &m : node.members) {
@@ -472,10 +476,10 @@ void Flattener::checkModifiers(InstNode &node) {
     std::string best = closestName(name, names);
     if (best.empty())
       report(DiagId::ErrUnknownModifier,
-                    SourceRange{sub->loc, sub->length}, {name, typeName});
+                    SourceRange{sub->nameLoc, sub->nameLength}, {name, typeName});
     else
       report(DiagId::ErrUnknownModifierSuggest,
-                    SourceRange{sub->loc, sub->length}, {name, typeName, best});
+                    SourceRange{sub->nameLoc, sub->nameLength}, {name, typeName, best});
   }
 }
 

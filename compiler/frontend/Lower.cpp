@@ -273,6 +273,60 @@ std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
       return map1Value(*a, [&](ir::ExprRef x) { return c.neg(x); });
     return map1Value(*a, [&](ir::ExprRef x) { return c.logicalNot(x); });
   }
+  case ast::ExprKind::Sum: {
+    std::vector<Value> values;
+    bool scalars = true, strings = true;
+    for (const auto &op : e.ops) {
+      std::optional<Value> v = lower(*op, scope, env);
+      if (!v)
+        return std::nullopt;
+      scalars = scalars && v->isScalar();
+      strings = strings && v->isString;
+      values.push_back(std::move(*v));
+    }
+    if (scalars) {
+      // One n-ary sum, as the IR keeps it.
+      std::vector<ir::ExprRef> sum;
+      for (size_t i = 0; i < values.size(); ++i)
+        sum.push_back(e.negated[i] ? c.neg(values[i].elems[0])
+                                   : values[i].elems[0]);
+      return Value::scalar(c.add(sum));
+    }
+    bool anyMinus = false;
+    for (bool n : e.negated)
+      anyMinus = anyMinus || n;
+    if (strings && !anyMinus) {
+      std::string s;
+      for (const Value &v : values)
+        s += v.str;
+      return Value::string(s);
+    }
+    Value acc;
+    for (size_t i = 0; i < values.size(); ++i) {
+      if (values[i].isString) {
+        report(DiagId::ErrStringOperand,
+               SourceRange{e.ops[i]->loc, e.ops[i]->length},
+               {e.negated[i] ? "-" : "+"});
+        return std::nullopt;
+      }
+      bool negate = e.negated[i];
+      if (i == 0) {
+        acc = negate ? map1Value(values[0], [&](ir::ExprRef x) { return c.neg(x); })
+                     : values[0];
+        continue;
+      }
+      std::optional<Value> next = map2Value(
+          acc, values[i],
+          [&](ir::ExprRef p, ir::ExprRef q) {
+            return negate ? c.sub(p, q) : c.add(p, q);
+          },
+          e, negate ? "-" : "+");
+      if (!next)
+        return std::nullopt;
+      acc = std::move(*next);
+    }
+    return acc;
+  }
   case ast::ExprKind::Binary: {
     std::optional<Value> a = lower(*e.ops[0], scope, env);
     if (!a)
