@@ -67,7 +67,7 @@ struct StepResult {
   bool converged = false;
   double residual = 0;  // max scaled residual before the step
   std::vector<int> badRows;
-  int jumpDim = 0, index = 0;
+  int jumpDim = 0, index = 0, levels = 0;
   std::string domainError;
 };
 
@@ -170,28 +170,42 @@ public:
       b.tail(ni) = -g;
     }
     // Residuals are judged relative to their row's sensitivity to the
-    // scaled unknowns: "how far off, in nominal units".
+    // scaled unknowns: "how far off, in nominal units". Only the equations
+    // themselves (level 0) and the initial equations have a residual of the
+    // state; the derivative levels constrain the step (their unknowns z_j
+    // are solved afresh each time).
     VectorXd rowScale(rows);
     for (int i = 0; i < rows; ++i)
       rowScale(i) = std::max(A.row(i).cwiseAbs().maxCoeff(), 1e-300);
     VectorXd scaled = b.cwiseAbs().cwiseQuotient(rowScale);
-    res.residual = scaled.size() ? scaled.maxCoeff() : 0.0;
+    auto isStateRow = [&](int i) { return i < n_ || i >= n_ * (1 + levels); };
     const double tol = 1e-10;
+    res.residual = 0;
     for (int i = 0; i < rows; ++i)
-      if (scaled(i) > tol)
-        res.badRows.push_back(i);
-    if (res.badRows.empty()) {
-      res.converged = true;
-      return res;
-    }
+      if (isStateRow(i)) {
+        res.residual = std::max(res.residual, scaled(i));
+        if (scaled(i) > tol)
+          res.badRows.push_back(i);
+      }
     Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod(A);
     cod.setThreshold(1e-12);
     VectorXd x = cod.solve(b);
     VectorXd lin = (A * x - b).cwiseAbs().cwiseQuotient(rowScale);
-    if (lin.maxCoeff() > 1e-6 * std::max(1.0, res.residual))
+    if (lin.maxCoeff() > 1e-8 * std::max(1.0, scaled.maxCoeff())) {
       res.solvable = false;
-    y += D_.asDiagonal() * (B * x.head(k));
+      res.badRows.clear();
+      for (int i = 0; i < rows; ++i)
+        if (lin(i) > 1e-8 * std::max(1.0, scaled.maxCoeff()))
+          res.badRows.push_back(i);
+    }
+    VectorXd dy = B * x.head(k);
+    y += D_.asDiagonal() * dy;
     yp += D_.asDiagonal() * x.segment(k, n_);
+    // Converged: the equations hold and the hidden constraints (through
+    // the derivative levels) ask for no further move along T.
+    res.converged = res.solvable && res.badRows.empty() &&
+                    (dy.size() == 0 || dy.cwiseAbs().maxCoeff() <= tol);
+    res.levels = levels;
     return res;
   }
 
@@ -263,7 +277,7 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
   }
   out.residual = best;
   std::string rows;
-  int levels = std::max(last.index - 1, 0);
+  int levels = last.levels;
   for (size_t i = 0; i < last.badRows.size() && i < 5; ++i)
     rows += (i ? ", " : "") + newton.describe(last.badRows[i], levels);
   out.failure = fmt::format(

@@ -60,6 +60,10 @@ FlagInfo flagInfo(int flag) {
             : flag == IDA_LINESEARCH_FAIL ? "IDA_LINESEARCH_FAIL"
                                           : "IDA_FIRST_RES_FAIL",
             "no consistent initial point was found", "check the start values"};
+  case kStepCollapsed:
+    return {"step size collapse", "the step size fell to round-off level",
+            "the solution may leave an equation's domain or have a "
+            "singularity here; check the start values and parameters"};
   default:
     return {"IDA error", "the integrator stopped", "tighten or loosen --rtol"};
   }
@@ -117,7 +121,7 @@ std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
     msg += "\n  largest local errors: " + worst;
   std::vector<int> rows;
   if ((flag == IDA_RES_FAIL || flag == IDA_REP_RES_ERR ||
-       flag == IDA_CONV_FAIL) &&
+       flag == IDA_CONV_FAIL || flag == kStepCollapsed) &&
       ida.lastDomainRow() >= 0)
     rows.push_back(ida.lastDomainRow());
   else if (flag == IDA_LSETUP_FAIL || flag == IDA_CONV_FAIL ||

@@ -10,6 +10,11 @@
 
 namespace ldae::runtime {
 
+/// Our own failure code (beside IDA's): the step size collapsed to
+/// round-off level while IDA kept succeeding (e.g. creeping towards a
+/// domain boundary).
+inline constexpr int kStepCollapsed = -1000;
+
 /// Describes the failure of IDASolve with `flag` (< 0) at time `t`.
 std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
                             int flag, double t);

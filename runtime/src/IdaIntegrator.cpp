@@ -130,7 +130,7 @@ IdaIntegrator::~IdaIntegrator() = default;
 Expected<bool> IdaIntegrator::init(int set, double t0, const double *y,
                                    const double *yp, double rtol,
                                    const std::vector<double> &atol,
-                                   double tstop) {
+                                   double tstop, bool suppressAlg) {
   Impl &I = *impl_;
   int n = ev_.n();
   data_.set = set;
@@ -163,7 +163,7 @@ Expected<bool> IdaIntegrator::init(int set, double t0, const double *y,
   // Index-1 theory: the algebraic components are functions of the
   // differential ones, so their error follows; testing them only forces
   // needlessly small steps (and fails outright for dummy derivatives).
-  LDAE_CHECK(IDASetSuppressAlg(I.mem, SUNTRUE));
+  LDAE_CHECK(IDASetSuppressAlg(I.mem, suppressAlg ? SUNTRUE : SUNFALSE));
   return setupLinearSolver();
 }
 
@@ -180,31 +180,42 @@ Expected<bool> IdaIntegrator::setupLinearSolver() {
   Impl &I = *impl_;
   const ldae_state_set &s = ev_.set(data_.set);
   int n = ev_.n();
-  I.freeSolver();
-  sparse_ = n > LDAE_DENSE_THRESHOLD && s.jacobian_csc && s.jac_colptr;
-  if (sparse_) {
-    I.A = SUNSparseMatrix(n, n, std::max(s.jac_nnz, 1), CSC_MAT, I.ctx);
-    if (!I.A)
-      return Error{"internal error: SUNSparseMatrix failed"};
-    I.LS = SUNLinSol_KLU(I.y, I.A, I.ctx);
-    if (!I.LS)
-      return Error{"internal error: SUNLinSol_KLU failed"};
-    LDAE_CHECK(IDASetLinearSolver(I.mem, I.LS, I.A));
-    LDAE_CHECK(IDASetJacFn(I.mem, sparseJacFn));
+  bool sparse = n > LDAE_DENSE_THRESHOLD && s.jacobian_csc && s.jac_colptr;
+  if (I.LS && !sparse && !sparse_) {
+    // Dense to dense: the matrix and solver stay; only the Jacobian source
+    // changes (IDA's difference quotients when the set has none).
+    LDAE_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
     return true;
   }
-  I.A = SUNDenseMatrix(n, n, I.ctx);
-  if (!I.A)
-    return Error{"internal error: SUNDenseMatrix failed"};
-  I.LS = SUNLinSol_Dense(I.y, I.A, I.ctx);
-  if (!I.LS)
-    return Error{"internal error: SUNLinSol_Dense failed"};
-  LDAE_CHECK(IDASetLinearSolver(I.mem, I.LS, I.A));
-  // Without the model's dense Jacobian IDA's difference quotients are used.
-  LDAE_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
+  // A new matrix (the sparse pattern may differ between sets): build the
+  // new solver first, hand it to IDA, then free the old one.
+  SUNMatrix A = sparse ? SUNSparseMatrix(n, n, std::max(s.jac_nnz, 1),
+                                         CSC_MAT, I.ctx)
+                       : SUNDenseMatrix(n, n, I.ctx);
+  if (!A)
+    return Error{"internal error: cannot create the Jacobian matrix"};
+  SUNLinearSolver LS = sparse ? SUNLinSol_KLU(I.y, A, I.ctx)
+                              : SUNLinSol_Dense(I.y, A, I.ctx);
+  if (!LS) {
+    SUNMatDestroy(A);
+    return Error{"internal error: cannot create the linear solver"};
+  }
+  int flag = IDASetLinearSolver(I.mem, LS, A);
+  if (flag < 0) {
+    SUNLinSolFree(LS);
+    SUNMatDestroy(A);
+    return sundialsError("IDASetLinearSolver", flag);
+  }
+  I.freeSolver();
+  I.A = A;
+  I.LS = LS;
+  sparse_ = sparse;
+  if (sparse)
+    LDAE_CHECK(IDASetJacFn(I.mem, sparseJacFn));
+  else
+    LDAE_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
   return true;
 }
-
 
 void IdaIntegrator::addCounters(SimStats &st) const {
   void *mem = impl_->mem;
@@ -255,6 +266,12 @@ int IdaIntegrator::calcIC(double tout1) {
     return flag;
   int g = IDAGetConsistentIC(I.mem, I.y, I.yp);
   return g < 0 ? g : flag;
+}
+
+Expected<bool> IdaIntegrator::setStopTime(double tstop) {
+  impl_->tstop = tstop;
+  LDAE_CHECK(IDASetStopTime(impl_->mem, tstop));
+  return true;
 }
 
 int IdaIntegrator::step(double &tret) {
@@ -308,6 +325,13 @@ double IdaIntegrator::currentTime() const {
   if (IDAGetCurrentTime(impl_->mem, &t) < 0)
     return 0;
   return t;
+}
+
+double IdaIntegrator::lastStep() const {
+  double h = 0;
+  if (IDAGetLastStep(impl_->mem, &h) < 0)
+    return 0;
+  return h;
 }
 
 double IdaIntegrator::currentCj() const {

@@ -26,7 +26,7 @@ public:
   /// unknown. Errors are internal (a SUNDIALS call failed).
   Expected<bool> init(int set, double t0, const double *y, const double *yp,
                       double rtol, const std::vector<double> &atol,
-                      double tstop);
+                      double tstop, bool suppressAlg = true);
   /// Restarts at (t, y, y') with state set `set` (new residual, id vector,
   /// Jacobian; the KLU solver is rebuilt for the new pattern).
   Expected<bool> reinit(int set, double t, const double *y, const double *yp);
@@ -34,6 +34,8 @@ public:
   /// unknowns from the differential y. Returns the IDA flag; on success the
   /// vectors hold the consistent point.
   int calcIC(double tout1);
+  /// Sets the time the next steps must stop at exactly (an output time).
+  Expected<bool> setStopTime(double tstop);
   /// One internal step towards the stop time (IDA_ONE_STEP). Returns the
   /// IDA flag (>= 0 ok: success, tstop reached, root found).
   int step(double &tret);
@@ -55,6 +57,8 @@ public:
   std::vector<double> weightedErrors() const;
   /// Time IDA reached.
   double currentTime() const;
+  /// Size of the last successful step.
+  double lastStep() const;
   /// The iteration-matrix coefficient of the last step.
   double currentCj() const;
   /// Residual row of the last domain error (-1: none).

@@ -70,7 +70,7 @@ static size_t editDistance(const std::string &a, const std::string &b) {
 std::vector<std::string> closeNames(const std::vector<std::string> &available,
                                     const std::string &name, size_t limit) {
   std::vector<std::pair<size_t, std::string>> scored;
-  size_t maxDist = std::max<size_t>(2, name.size() / 3);
+  size_t maxDist = std::max<size_t>(1, name.size() / 4);
   for (const auto &a : available) {
     size_t d = editDistance(a, name);
     bool sub = !name.empty() && (a.find(name) != std::string::npos ||

@@ -23,6 +23,9 @@ struct SimOptions {
   std::optional<double> start, stop, rtol, atol, interval;
   /// Report every internal step instead of the `interval` grid.
   bool everyStep = false;
+  /// Report at exactly these increasing times in (start, stop] instead of
+  /// the `interval` grid (the start row is always reported).
+  std::vector<double> times;
   /// Reported columns by name (outputs, or unknowns when the model has no
   /// outputs); empty: all.
   std::vector<std::string> outputs;
@@ -31,6 +34,11 @@ struct SimOptions {
   /// Where initialization reports, state switches and warnings go
   /// (nullptr: nowhere).
   std::ostream *log = nullptr;
+  /// Keep algebraic unknowns out of IDA's error test (IDASetSuppressAlg):
+  /// index-1 theory makes their error follow the differential ones, and
+  /// dummy derivatives would otherwise force tiny steps. Turn off to have
+  /// small algebraic values (Robertson's y3) error-controlled too.
+  bool suppressAlgebraic = true;
   /// Parameter values overriding the model's defaults, by name.
   std::map<std::string, double> params;
 };
