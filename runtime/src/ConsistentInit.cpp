@@ -174,9 +174,12 @@ public:
     // themselves (level 0) and the initial equations have a residual of the
     // state; the derivative levels constrain the step (their unknowns z_j
     // are solved afresh each time).
+    // (Floored relative to the whole matrix: a row whose coefficients are
+    // round-off must not turn round-off residuals into large ones.)
     VectorXd rowScale(rows);
+    double floor = 1e-8 * std::max(1.0, A.cwiseAbs().maxCoeff());
     for (int i = 0; i < rows; ++i)
-      rowScale(i) = std::max(A.row(i).cwiseAbs().maxCoeff(), 1e-300);
+      rowScale(i) = std::max(A.row(i).cwiseAbs().maxCoeff(), floor);
     VectorXd scaled = b.cwiseAbs().cwiseQuotient(rowScale);
     auto isStateRow = [&](int i) { return i < n_ || i >= n_ * (1 + levels); };
     const double tol = 1e-10;

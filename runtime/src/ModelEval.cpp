@@ -22,24 +22,27 @@ int ModelEval::jacobian(int k, double t, const double *y, const double *yp,
         J(s.jac_rowind[q], c) = vals[q];
     return 0;
   }
-  // Difference quotients, one column at a time, perturbing y and y' together
-  // the way the iteration matrix combines them.
+  // Central differences, one column at a time, perturbing y and y'
+  // together the way the iteration matrix combines them (central: the
+  // initialization builds hidden constraints from these coefficients).
   std::vector<double> r0(n), r1(n), yy(y, y + n), yyp(yp, yp + n);
-  if (int rc = residual(k, t, y, yp, r0.data()))
-    return rc;
   for (int c = 0; c < n; ++c) {
     double scale = std::max({std::fabs(y[c]), std::fabs(yp[c]),
                              m_.nominal ? m_.nominal[c] : 1.0});
-    double h = 1e-7 * scale;
-    yy[c] += h;
-    yyp[c] += cj * h;
+    double h = 6e-6 * scale;
+    yy[c] = y[c] + h;
+    yyp[c] = yp[c] + cj * h;
     int rc = residual(k, t, yy.data(), yyp.data(), r1.data());
+    yy[c] = y[c] - h;
+    yyp[c] = yp[c] - cj * h;
+    if (rc == 0)
+      rc = residual(k, t, yy.data(), yyp.data(), r0.data());
     yy[c] = y[c];
     yyp[c] = yp[c];
     if (rc)
       return rc;
     for (int r = 0; r < n; ++r)
-      J(r, c) = (r1[r] - r0[r]) / h;
+      J(r, c) = (r1[r] - r0[r]) / (2 * h);
   }
   return 0;
 }
