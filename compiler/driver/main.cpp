@@ -5,7 +5,10 @@
 #include "Options.h"
 
 #include "frontend/Frontend.h"
+#include "passes/Pipeline.h"
 #include "support/Diagnostics.h"
+
+#include <nlohmann/json.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -65,6 +68,38 @@ int main(int argc, char **argv) {
   if (opts.emit == "flat")
     return writeOutput(opts.outputFile, model->print()) ? 0 : 1;
 
-  std::cerr << "ldaec: error: the pipeline after the frontend is not built yet\n";
+  // 3. Structural analysis, index reduction, initialization (passes).
+  passes::PipelineOptions passOpts;
+  passOpts.method = opts.method == "raw" ? "raw" : "dd";
+  for (size_t at = 0; at < opts.outputs.size();) {
+    size_t comma = opts.outputs.find(',', at);
+    if (comma == std::string::npos)
+      comma = opts.outputs.size();
+    if (comma > at)
+      passOpts.outputs.push_back(opts.outputs.substr(at, comma - at));
+    at = comma + 1;
+  }
+  passOpts.timePasses = opts.timePasses;
+  passOpts.printAfter = opts.printAfter;
+  passOpts.log = &std::cerr;
+  passes::AnalysisResult analysis;
+  bool analyzed = passes::runPipeline(*model, passOpts, diags, analysis);
+  diags.flush(std::cerr);
+  if (opts.analyze) {
+    // The report says what can be said, even about a singular model.
+    if (opts.json)
+      std::cout << passes::analysisToJson(analysis).dump(2) << "\n";
+    else
+      passes::printAnalysis(analysis, std::cout);
+    return analyzed ? 0 : 1;
+  }
+  if (!analyzed || !analysis.system)
+    return 1;
+  if (opts.emit == "reduced")
+    return writeOutput(opts.outputFile, passes::printReduced(*analysis.system))
+               ? 0
+               : 1;
+
+  std::cerr << "ldaec: error: the pipeline after the analysis is not built yet\n";
   return 1;
 }

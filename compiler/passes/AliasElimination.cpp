@@ -145,6 +145,13 @@ bool runAliasElimination(AnalysisState &s) {
   const size_t nv = m.variables.size();
   s.eliminated.assign(nv, 0);
 
+  // A structurally singular model is diagnosed as the user wrote it:
+  // eliminating `x = 1` would leave `2*x = 3` with no unknown at all.
+  runMatching(s);
+  if (s.mergedMatching.size != s.merged.numRows() ||
+      s.mergedMatching.size != s.merged.numCols)
+    return true;
+
   // Variables a reinit writes must survive (or be the representative).
   std::vector<char> reinitTarget(nv, 0);
   for (const ir::WhenClause &w : m.whenClauses)

@@ -7,6 +7,9 @@
 
 #include "graph/DulmageMendelsohn.h"
 
+#include <algorithm>
+#include <tuple>
+
 namespace ldae::passes {
 
 namespace {
@@ -64,9 +67,15 @@ bool diagnoseSingular(AnalysisState &s, const char *system,
                                 {names.rowText(rows[i])});
   };
   bool first = true;
-  for (const graph::DmPart &piece : pieces) {
+  for (graph::DmPart &piece : pieces) {
     if (piece.rows.empty())
       continue;
+    // In source order, so "pend.lsd:7 and :9" reads like the file.
+    std::stable_sort(piece.rows.begin(), piece.rows.end(), [&](int a, int b) {
+      SourceLoc la = names.rowLoc(a), lb = names.rowLoc(b);
+      return std::tie(la.file, la.line, la.col) <
+             std::tie(lb.file, lb.line, lb.col);
+    });
     auto [rows, verb] = describeRows(s, piece.rows, names);
     std::vector<std::string> cols;
     for (int c : piece.cols)

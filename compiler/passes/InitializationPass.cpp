@@ -210,11 +210,34 @@ bool runInitialization(AnalysisState &s) {
       rep.consistent = false;
       return false;
     }
+    // Which fixed values to keep: match everything else first, then add
+    // the fixed values one by one in canonical order; those that no longer
+    // fit are the ones to free.
+    graph::BipartiteGraph partial(0, is.g.numCols);
+    for (int r = 0; r < is.g.numRows(); ++r)
+      partial.addRow(is.fixedUnknown[r] >= 0 ? std::vector<int>{}
+                                             : is.g.rows[r]);
+    graph::Matching pm = graph::maximumMatching(partial);
+    std::vector<char> honoured(is.g.numRows(), 0);
+    for (int r = firstFixed; r < firstInitial; ++r) {
+      partial.rows[r] = is.g.rows[r];
+      graph::Matching next = graph::maximumMatching(partial, {}, &pm);
+      if (next.size > pm.size) {
+        honoured[r] = 1;
+        pm = std::move(next);
+      } else {
+        partial.rows[r].clear();
+      }
+    }
+    rep.honoured.clear();
+    for (int r = firstFixed; r < firstInitial; ++r)
+      if (honoured[r])
+        rep.honoured.push_back(is.colName[is.fixedUnknown[r]]);
     int canTake = 0;
     for (int r : fixedRows) {
       const std::string &name = is.colName[is.fixedUnknown[r]];
       rep.conflicting.push_back(name);
-      if (m.rowMate[r] >= 0)
+      if (honoured[r])
         ++canTake;
       else
         rep.toFree.push_back(name);

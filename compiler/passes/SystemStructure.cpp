@@ -15,7 +15,8 @@ std::vector<ir::VarKey> variablesOf(ir::ExprRef e) {
   thread_local std::unordered_set<ir::ExprRef> seen;
   stack.assign(1, e);
   seenSmall.clear();
-  seen.clear();
+  if (!seen.empty()) // clear() would wipe every bucket, even when empty
+    seen.clear();
   auto visited = [&](ir::ExprRef n) {
     if (seen.empty()) {
       if (std::find(seenSmall.begin(), seenSmall.end(), n) != seenSmall.end())
