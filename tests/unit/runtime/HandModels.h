@@ -130,55 +130,35 @@ inline void constraintJac(const double *y, const double *p, double *J) {
   at(4, V) = 2 * y[V];
   at(4, LAM) = -(y[X] * y[X] + y[Y] * y[Y]);
 }
-// States {x, u}: y and v are determined by the constraints (dummies der(y),
-// der(v)).
-inline int resA(double t, const double *y, const double *yp, const double *p,
-                double *r) {
-  r[0] = yp[X] - y[U];
-  r[1] = yp[U] + y[LAM] * y[X];
+// The state set with position Pos and velocity Vel as states (x, u or
+// y, v); the other position and velocity are determined by the constraints
+// (their derivatives are the dummies). Gravity acts on y.
+template <int Pos, int Vel>
+int res(double t, const double *y, const double *yp, const double *p,
+        double *r) {
+  r[0] = yp[Pos] - y[Vel];
+  r[1] = yp[Vel] + y[LAM] * y[Pos] + (Pos == Y ? p[1] : 0.0);
   constraints(t, y, p, r);
   return 0;
 }
-inline int jacA(double, const double *y, const double *, const double *p,
-                double cj, double *J) {
+template <int Pos, int Vel>
+int jac(double, const double *y, const double *, const double *p, double cj,
+        double *J) {
   for (int i = 0; i < 25; ++i)
     J[i] = 0;
-  J[0 + 5 * X] = cj;
-  J[0 + 5 * U] = -1;
-  J[1 + 5 * U] = cj;
-  J[1 + 5 * X] = y[LAM];
-  J[1 + 5 * LAM] = y[X];
+  J[0 + 5 * Pos] = cj;
+  J[0 + 5 * Vel] = -1;
+  J[1 + 5 * Vel] = cj;
+  J[1 + 5 * Pos] = y[LAM];
+  J[1 + 5 * LAM] = y[Pos];
   constraintJac(y, p, J);
   return 0;
 }
-inline int resB(double t, const double *y, const double *yp, const double *p,
-                double *r) {
-  r[0] = yp[Y] - y[V];
-  r[1] = yp[V] + y[LAM] * y[Y] + p[1];
-  constraints(t, y, p, r);
-  return 0;
-}
-inline int jacB(double, const double *y, const double *, const double *p,
-                double cj, double *J) {
-  for (int i = 0; i < 25; ++i)
-    J[i] = 0;
-  J[0 + 5 * Y] = cj;
-  J[0 + 5 * V] = -1;
-  J[1 + 5 * V] = cj;
-  J[1 + 5 * Y] = y[LAM];
-  J[1 + 5 * LAM] = y[Y];
-  constraintJac(y, p, J);
-  return 0;
-}
-// Pivot: d(constraint)/d(dummy-chosen position).
-inline int pivotA(double, const double *y, const double *, const double *,
-                  double *M) {
-  M[0] = 2 * y[Y];
-  return 0;
-}
-inline int pivotB(double, const double *y, const double *, const double *,
-                  double *M) {
-  M[0] = 2 * y[X];
+// Pivot: d(constraint)/d(the position the constraint determines).
+template <int Other>
+int pivot(double, const double *y, const double *, const double *,
+          double *M) {
+  M[0] = 2 * y[Other];
   return 0;
 }
 inline int drift(double t, const double *y, const double *, const double *p,
@@ -219,16 +199,16 @@ inline ldae_model pendulum(double eps, double theta0, double omega0) {
     v = 0;
   sets[0] = ldae_state_set{};
   sets[0].is_differential = diffA;
-  sets[0].residual = resA;
-  sets[0].jacobian_dense = jacA;
+  sets[0].residual = res<X, U>;
+  sets[0].jacobian_dense = jac<X, U>;
   sets[0].pivot_size = 1;
-  sets[0].pivot = pivotA;
+  sets[0].pivot = pivot<Y>;
   sets[0].description = "states: x, der(x)";
   sets[1] = sets[0];
   sets[1].is_differential = diffB;
-  sets[1].residual = resB;
-  sets[1].jacobian_dense = jacB;
-  sets[1].pivot = pivotB;
+  sets[1].residual = res<Y, V>;
+  sets[1].jacobian_dense = jac<Y, V>;
+  sets[1].pivot = pivot<X>;
   sets[1].description = "states: y, der(y)";
   ldae_model m = blankModel("Pendulum", 5);
   m.var_names = names;
@@ -401,6 +381,42 @@ inline ldae_model index2Linear(double x1, double x2, double x3, double c) {
   m.n_params = 1;
   m.param_names = pnames;
   m.param_values = params;
+  m.state_sets = &set;
+  return m;
+}
+
+// ---- The unreduced index-3 pendulum (the `raw` method's system) ---------
+// x' = vx, y' = vy, vx' = -lam x, vy' = -lam y - g, 0 = x^2 + y^2 - 1;
+// at rest at angle theta0, x and vx fixed, lam to be initialized.
+namespace raw_detail {
+inline int res(double, const double *y, const double *yp, const double *,
+               double *r) {
+  r[0] = yp[0] - y[2];
+  r[1] = yp[1] - y[3];
+  r[2] = yp[2] + y[4] * y[0];
+  r[3] = yp[3] + y[4] * y[1] + 9.81;
+  r[4] = y[0] * y[0] + y[1] * y[1] - 1;
+  return 0;
+}
+} // namespace raw_detail
+
+inline ldae_model rawPendulum(double theta0) {
+  static const char *names[] = {"x", "y", "vx", "vy", "lambda"};
+  static double y0[5];
+  static const double yp0[5] = {0, 0, 0, 0, 0}, nominal[] = {1, 1, 1, 1, 1};
+  static const int fixed[] = {1, 0, 1, 0, 0}, diff[] = {1, 1, 1, 1, 0};
+  static ldae_state_set set{};
+  y0[0] = std::sin(theta0);
+  y0[1] = -std::cos(theta0);
+  y0[2] = y0[3] = y0[4] = 0;
+  set.is_differential = diff;
+  set.residual = raw_detail::res; // Jacobian by difference quotients
+  ldae_model m = blankModel("RawPendulum", 5);
+  m.var_names = names;
+  m.start_y = y0;
+  m.start_yp = yp0;
+  m.nominal = nominal;
+  m.fixed = fixed;
   m.state_sets = &set;
   return m;
 }

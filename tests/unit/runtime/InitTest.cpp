@@ -77,38 +77,12 @@ TEST(ConsistentInit, IndexTwoMovesAlongWongJumpSpace) {
     EXPECT_NEAR(r.rows[0][i + 1], p(i), 1e-10);
 }
 
-namespace {
-// The unreduced index-3 pendulum: x' = vx, y' = vy, vx' = -lam x,
-// vy' = -lam y - g, 0 = x^2 + y^2 - 1 (the `raw` method's system).
-int rawPendulum(double, const double *y, const double *yp, const double *,
-                double *r) {
-  r[0] = yp[0] - y[2];
-  r[1] = yp[1] - y[3];
-  r[2] = yp[2] + y[4] * y[0];
-  r[3] = yp[3] + y[4] * y[1] + 9.81;
-  r[4] = y[0] * y[0] + y[1] * y[1] - 1;
-  return 0;
-}
-} // namespace
-
 TEST(ConsistentInit, IndexThreeSolvesHiddenConstraintsAlongT) {
   // At rest at 0.5 rad with x and vx fixed: T ∩ {x, vx held} = span(e_lam),
   // and the hidden constraint of the second derivative gives
   // lam = -g y = g cos(0.5); nothing else moves.
-  static const char *names[] = {"x", "y", "vx", "vy", "lambda"};
-  static const double y0[] = {std::sin(0.5), -std::cos(0.5), 0, 0, 0};
-  static const double yp0[5] = {0, 0, 0, 0, 0}, nominal[] = {1, 1, 1, 1, 1};
-  static const int fixed[] = {1, 0, 1, 0, 0}, diff[] = {1, 1, 1, 1, 0};
-  static ldae_state_set set{};
-  set.is_differential = diff;
-  set.residual = rawPendulum;
-  ldae_model m = handmodels::blankModel("RawPendulum", 5);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
-  m.state_sets = &set;
+  ldae_model m = handmodels::rawPendulum(0.5);
+  const double y0[] = {std::sin(0.5), -std::cos(0.5), 0, 0};
   std::ostringstream log;
   SimResult r = initOnly(m, log);
   ASSERT_EQ(r.status, 0) << r.failure;
@@ -118,5 +92,5 @@ TEST(ConsistentInit, IndexThreeSolvesHiddenConstraintsAlongT) {
   EXPECT_EQ(log.str().find("nearest point"), std::string::npos) << log.str();
   EXPECT_NEAR(r.rows[0][5], 9.81 * std::cos(0.5), 1e-7);
   for (int i = 0; i < 4; ++i)
-    EXPECT_NEAR(r.rows[0][i + 1], y0[i], 1e-12) << names[i];
+    EXPECT_NEAR(r.rows[0][i + 1], y0[i], 1e-12) << m.var_names[i];
 }

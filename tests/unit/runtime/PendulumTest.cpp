@@ -33,6 +33,24 @@ Check compare(const SimResult &r, const testutil::Table &ref, double eps) {
   return c;
 }
 
+SimResult run(double eps, double stop, double interval, double rtol,
+                std::ostream *log = nullptr) {
+  ldae_model m = handmodels::pendulum(eps, 1.5, 0.0);
+  SimOptions o;
+  o.start = 0;
+  o.stop = stop;
+  o.interval = interval;
+  o.rtol = rtol;
+  o.progress = false;
+  o.log = log;
+  auto r = simulate(m, o);
+  EXPECT_TRUE(r) << (r ? "" : r.error());
+  if (!r)
+    return SimResult{};
+  EXPECT_EQ(r->status, 0) << r->failure;
+  return *r;
+}
+
 } // namespace
 
 // At rtol 1e-9 BDF's phase error grows to about 1e-4 over the 42 periods
@@ -43,18 +61,9 @@ TEST(Pendulum, HundredSecondsWithStateSwitches) {
   testutil::Table ref =
       testutil::readCsv(testutil::referencePath("pendulum_ref.csv"));
   ASSERT_EQ(ref.rows.size(), 1001u);
-  ldae_model m = handmodels::pendulum(0.0, 1.5, 0.0);
-  SimOptions o;
-  o.start = 0;
-  o.stop = 100;
-  o.interval = 0.1;
-  o.rtol = 1e-9;
-  o.progress = false;
   std::ostringstream log;
-  o.log = &log;
-  auto r = simulate(m, o);
-  ASSERT_TRUE(r) << r.error();
-  ASSERT_EQ(r->status, 0) << r->failure;
+  SimResult res = run(0.0, 100, 0.1, 1e-9, &log);
+  const SimResult *r = &res;
   Check c = compare(*r, ref, 0.0);
   EXPECT_LE(c.worstPos, 2e-4);
   EXPECT_LE(c.worstLength, 1e-7);
@@ -73,16 +82,8 @@ TEST(Pendulum, HundredSecondsWithStateSwitches) {
 TEST(Pendulum, HundredSecondsToOneMicron) {
   testutil::Table ref =
       testutil::readCsv(testutil::referencePath("pendulum_ref.csv"));
-  ldae_model m = handmodels::pendulum(0.0, 1.5, 0.0);
-  SimOptions o;
-  o.start = 0;
-  o.stop = 100;
-  o.interval = 0.1;
-  o.rtol = 1e-11;
-  o.progress = false;
-  auto r = simulate(m, o);
-  ASSERT_TRUE(r) << r.error();
-  ASSERT_EQ(r->status, 0) << r->failure;
+  SimResult res = run(0.0, 100, 0.1, 1e-11);
+  const SimResult *r = &res;
   Check c = compare(*r, ref, 0.0);
   EXPECT_LE(c.worstPos, 1e-6);
   EXPECT_LE(c.worstLength, 1e-9);
@@ -93,16 +94,8 @@ TEST(Pendulum, VariableLength) {
   testutil::Table ref =
       testutil::readCsv(testutil::referencePath("pendulum_var_ref.csv"));
   ASSERT_EQ(ref.rows.size(), 201u);
-  ldae_model m = handmodels::pendulum(0.1, 1.5, 0.0);
-  SimOptions o;
-  o.start = 0;
-  o.stop = 10;
-  o.interval = 0.05;
-  o.rtol = 1e-9;
-  o.progress = false;
-  auto r = simulate(m, o);
-  ASSERT_TRUE(r) << r.error();
-  ASSERT_EQ(r->status, 0) << r->failure;
+  SimResult res = run(0.1, 10, 0.05, 1e-9);
+  const SimResult *r = &res;
   Check c = compare(*r, ref, 0.1);
   EXPECT_LE(c.worstPos, 1e-6);
   EXPECT_LE(c.worstLength, 1e-7);
