@@ -277,7 +277,10 @@ static size_t editDistance(const std::string &a, const std::string &b) {
 std::string closestName(const std::string &name,
                         const std::vector<std::string> &candidates) {
   std::string best;
-  size_t bestDist = std::max<size_t>(1, name.size() / 3) + 1;
+  // Short names tolerate one edit; longer ones a third of their length
+  // (two at least, so a swapped pair of letters is found).
+  size_t bestDist =
+      (name.size() <= 3 ? 1 : std::max<size_t>(2, name.size() / 3)) + 1;
   for (const std::string &c : candidates) {
     if (c == name || c.empty())
       continue;

@@ -118,6 +118,14 @@ protected:
                  {expected, describeToken(t)});
   }
 
+  /// Never drop a ';' to repair an expression: the error is before it, and
+  /// keeping it lets the next equation parse on its own.
+  Token *singleTokenDeletion(Parser *p) override {
+    if (p->getCurrentToken()->getText() == ";")
+      return nullptr;
+    return DefaultErrorStrategy::singleTokenDeletion(p);
+  }
+
 private:
   void reportUnexpected(Parser *p, Token *t, const misc::IntervalSet &set) {
     std::string expected = describeExpected(p, set);
