@@ -139,18 +139,14 @@ struct SignedUnionFind {
 
 } // namespace
 
-bool runAliasElimination(AnalysisState &s) {
+namespace {
+/// One round: finds the alias equations of the current model and removes
+/// them. Returns how many variables it eliminated, or -1 after an error.
+int eliminateOnce(AnalysisState &s) {
   ir::Model &m = s.model;
   ir::ExprContext &ctx = m.ctx();
   const size_t nv = m.variables.size();
-  s.eliminated.assign(nv, 0);
-
-  // A structurally singular model is diagnosed as the user wrote it:
-  // eliminating `x = 1` would leave `2*x = 3` with no unknown at all.
-  runMatching(s);
-  if (s.mergedMatching.size != s.merged.numRows() ||
-      s.mergedMatching.size != s.merged.numCols)
-    return true;
+  const size_t before = s.aliases.size();
 
   // Variables a reinit writes must survive (or be the representative).
   std::vector<char> reinitTarget(nv, 0);
@@ -309,18 +305,10 @@ bool runAliasElimination(AnalysisState &s) {
     }
   }
   if (s.diags.hasErrors())
-    return false;
+    return -1;
 
-  std::sort(s.aliases.begin(), s.aliases.end(),
-            [&](const Alias &x, const Alias &y) {
-              return m.variables[x.var].name < m.variables[y.var].name;
-            });
-  s.result.aliasesRemoved = static_cast<int>(s.aliases.size());
-  for (const Alias &a : s.aliases)
-    s.result.aliases.push_back(m.variables[a.var].name + " = " +
-                               ir::printLsd(a.value, &m));
-  if (s.aliases.empty())
-    return true;
+  if (s.aliases.size() == before)
+    return 0;
   // Apply: drop the alias equations, rewrite everything else.
   std::vector<ir::Equation> kept;
   for (size_t i = 0; i < m.equations.size(); ++i) {
@@ -351,7 +339,37 @@ bool runAliasElimination(AnalysisState &s) {
     for (ir::Equation &e : w.equations)
       e.residual = subst.apply(e.residual);
   }
+  // Aliases found earlier now stand for the new representatives too.
+  for (size_t i = 0; i < before; ++i)
+    s.aliases[i].value = subst.apply(s.aliases[i].value);
+  return static_cast<int>(s.aliases.size() - before);
+}
+} // namespace
 
+bool runAliasElimination(AnalysisState &s) {
+  ir::Model &m = s.model;
+  s.eliminated.assign(m.variables.size(), 0);
+  // A structurally singular model is diagnosed as the user wrote it:
+  // eliminating `x = 1` would leave `2*x = 3` with no unknown at all.
+  runMatching(s);
+  if (s.mergedMatching.size != s.merged.numRows() ||
+      s.mergedMatching.size != s.merged.numCols)
+    return true;
+  // Substituting aliases makes new ones (`v = p.v - n.v` with n.v = 0):
+  // repeat until a round finds none.
+  for (int found = 1; found > 0;) {
+    found = eliminateOnce(s);
+    if (found < 0)
+      return false;
+  }
+  std::sort(s.aliases.begin(), s.aliases.end(),
+            [&](const Alias &x, const Alias &y) {
+              return m.variables[x.var].name < m.variables[y.var].name;
+            });
+  s.result.aliasesRemoved = static_cast<int>(s.aliases.size());
+  for (const Alias &a : s.aliases)
+    s.result.aliases.push_back(m.variables[a.var].name + " = " +
+                               ir::printLsd(a.value, &m));
   return true;
 }
 

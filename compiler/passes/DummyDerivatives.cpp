@@ -107,10 +107,12 @@ private:
   std::vector<Level> levels_;
 };
 
+/// Larger entries first (better conditioned pivots); entries within 0.1%
+/// of each other tie, so order and name decide deterministically.
 double magnitudeClass(double v, double rowMax) {
-  if (!std::isfinite(v))
+  if (!std::isfinite(v) || v == 0 || rowMax == 0)
     return 2;
-  return std::fabs(v) >= 0.1 * rowMax && v != 0 ? 0 : 1;
+  return -std::round(1000 * std::fabs(v) / rowMax) / 1000;
 }
 
 void Selector::buildLevels() {
