@@ -277,10 +277,13 @@ static size_t editDistance(const std::string &a, const std::string &b) {
 std::string closestName(const std::string &name,
                         const std::vector<std::string> &candidates) {
   std::string best;
-  // Short names tolerate one edit; longer ones a third of their length
-  // (two at least, so a swapped pair of letters is found).
+  // One- and two-letter names are too short to guess from; three letters
+  // tolerate one edit; longer ones a third of their length (two at least,
+  // so a swapped pair of letters is found).
+  if (name.size() <= 2)
+    return "";
   size_t bestDist =
-      (name.size() <= 3 ? 1 : std::max<size_t>(2, name.size() / 3)) + 1;
+      (name.size() == 3 ? 1 : std::max<size_t>(2, name.size() / 3)) + 1;
   for (const std::string &c : candidates) {
     if (c == name || c.empty())
       continue;
