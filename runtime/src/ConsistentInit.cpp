@@ -41,8 +41,8 @@ bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
     return false;
   // E must vanish on the algebraic columns; [E_d F_a] must be nonsingular.
   MatrixXd M(n, n);
-  double scale = std::max({1e-300, E.cwiseAbs().maxCoeff(),
-                           n ? Fy.cwiseAbs().maxCoeff() : 0.0});
+  double scale = std::max(
+      {1e-300, E.cwiseAbs().maxCoeff(), n ? Fy.cwiseAbs().maxCoeff() : 0.0});
   for (int j = 0; j < n; ++j) {
     const double *nom = m.nominal;
     double d = nom ? nom[j] : 1.0;
@@ -65,7 +65,7 @@ enum class Mode { Jumps, Nearest };
 struct StepResult {
   bool solvable = true; // the linearized conditions have a solution
   bool converged = false;
-  double residual = 0;  // max scaled residual before the step
+  double residual = 0; // max scaled residual before the step
   std::vector<int> badRows;
   int jumpDim = 0, index = 0, levels = 0;
   std::string domainError;
@@ -218,9 +218,9 @@ public:
     if (row >= n_ * (1 + levels))
       return fmt::format("initial equation {}", row - n_ * (1 + levels) + 1);
     std::string what = ev_.describeRow(row % n_);
-    return level == 0 ? what
-                      : fmt::format("the time derivative ({}) of {}", level,
-                                    what);
+    return level == 0
+               ? what
+               : fmt::format("the time derivative ({}) of {}", level, what);
   }
 
 private:

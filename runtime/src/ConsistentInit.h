@@ -28,11 +28,11 @@ bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
 struct InitOutcome {
   bool ok = false;
   std::vector<double> y, yp;
-  int jumpDim = 0;          ///< dim T at the start point (after fixing)
-  int index = 0;            ///< Wong steps of T (the index of the pencil)
+  int jumpDim = 0;           ///< dim T at the start point (after fixing)
+  int index = 0;             ///< Wong steps of T (the index of the pencil)
   bool nearestPoint = false; ///< fell back to the nominal-scaled nearest point
-  double residual = 0;      ///< smallest max |residual| reached
-  std::string failure;      ///< when !ok: which equations cannot be met
+  double residual = 0;       ///< smallest max |residual| reached
+  std::string failure;       ///< when !ok: which equations cannot be met
 };
 
 /// Newton iteration along T(E, F) (see the file comment). Logs warnings to

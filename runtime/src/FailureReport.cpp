@@ -20,21 +20,24 @@ struct FlagInfo {
 FlagInfo flagInfo(int flag) {
   switch (flag) {
   case IDA_TOO_MUCH_WORK:
-    return {"IDA_TOO_MUCH_WORK", "too many steps without reaching the output "
-                                 "time",
+    return {"IDA_TOO_MUCH_WORK",
+            "too many steps without reaching the output "
+            "time",
             "the model may be stiff or oscillate fast; loosen --rtol or "
             "shorten --stop"};
   case IDA_TOO_MUCH_ACC:
     return {"IDA_TOO_MUCH_ACC", "the requested accuracy cannot be reached",
             "loosen --rtol and --atol"};
   case IDA_ERR_FAIL:
-    return {"IDA_ERR_FAIL", "the error test failed repeatedly with the "
-                            "smallest step",
+    return {"IDA_ERR_FAIL",
+            "the error test failed repeatedly with the "
+            "smallest step",
             "tighten or loosen --rtol; the model may be high index (try "
             "--method dd) or have a discontinuity"};
   case IDA_CONV_FAIL:
-    return {"IDA_CONV_FAIL", "the Newton iteration failed to converge "
-                             "repeatedly",
+    return {"IDA_CONV_FAIL",
+            "the Newton iteration failed to converge "
+            "repeatedly",
             "the model may be high index (try --method dd); check the start "
             "values; tighten --rtol"};
   case IDA_LSETUP_FAIL:
@@ -86,7 +89,8 @@ std::vector<int> singularRows(const ModelEval &ev, const IdaIntegrator &ida,
   for (int i = 0; i < u.size(); ++i)
     if (u(i) > 0.1 * u.maxCoeff())
       rows.push_back(i);
-  std::sort(rows.begin(), rows.end(), [&](int a, int b) { return u(a) > u(b); });
+  std::sort(rows.begin(), rows.end(),
+            [&](int a, int b) { return u(a) > u(b); });
   if (rows.size() > 3)
     rows.resize(3);
   return rows;
@@ -114,8 +118,8 @@ std::string worstVariables(const ModelEval &ev, const IdaIntegrator &ida) {
 std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
                             int flag, double t) {
   FlagInfo info = flagInfo(flag);
-  std::string msg = fmt::format("simulation failed at t = {:.10g}: {} ({})",
-                                t, info.what, info.name);
+  std::string msg = fmt::format("simulation failed at t = {:.10g}: {} ({})", t,
+                                info.what, info.name);
   std::string worst = worstVariables(ev, ida);
   if (!worst.empty())
     msg += "\n  largest local errors: " + worst;

@@ -19,8 +19,7 @@ namespace {
 
 using Data = IdaIntegrator::CallbackData;
 
-int residualFn(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r,
-               void *user) {
+int residualFn(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void *user) {
   auto *d = static_cast<Data *>(user);
   int rc = d->ev->residual(d->set, t, N_VGetArrayPointer(y),
                            N_VGetArrayPointer(yp), N_VGetArrayPointer(r));
@@ -61,8 +60,7 @@ int sparseJacFn(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp,
   return rc > 0 ? 1 : (rc < 0 ? -1 : 0);
 }
 
-int rootFn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g,
-           void *user) {
+int rootFn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *user) {
   auto *d = static_cast<Data *>(user);
   const ldae_model &m = d->ev->model();
   int rc = m.roots(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp),
@@ -70,15 +68,15 @@ int rootFn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g,
   return rc == 0 ? 0 : -1;
 }
 
-void errHandler(int code, const char *module, const char *function,
-                char *msg, void *user) {
+void errHandler(int code, const char *module, const char *function, char *msg,
+                void *user) {
   auto *d = static_cast<Data *>(user);
   d->idaMessage = fmt::format("{} ({}): {}", function, code, msg);
 }
 
 Error sundialsError(const char *call, int flag) {
-  return Error{fmt::format("internal error: {} failed with flag {}", call,
-                           flag)};
+  return Error{
+      fmt::format("internal error: {} failed with flag {}", call, flag)};
 }
 
 } // namespace
@@ -189,13 +187,13 @@ Expected<bool> IdaIntegrator::setupLinearSolver() {
   }
   // A new matrix (the sparse pattern may differ between sets): build the
   // new solver first, hand it to IDA, then free the old one.
-  SUNMatrix A = sparse ? SUNSparseMatrix(n, n, std::max(s.jac_nnz, 1),
-                                         CSC_MAT, I.ctx)
-                       : SUNDenseMatrix(n, n, I.ctx);
+  SUNMatrix A =
+      sparse ? SUNSparseMatrix(n, n, std::max(s.jac_nnz, 1), CSC_MAT, I.ctx)
+             : SUNDenseMatrix(n, n, I.ctx);
   if (!A)
     return Error{"internal error: cannot create the Jacobian matrix"};
-  SUNLinearSolver LS = sparse ? SUNLinSol_KLU(I.y, A, I.ctx)
-                              : SUNLinSol_Dense(I.y, A, I.ctx);
+  SUNLinearSolver LS =
+      sparse ? SUNLinSol_KLU(I.y, A, I.ctx) : SUNLinSol_Dense(I.y, A, I.ctx);
   if (!LS) {
     SUNMatDestroy(A);
     return Error{"internal error: cannot create the linear solver"};

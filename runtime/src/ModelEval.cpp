@@ -27,8 +27,8 @@ int ModelEval::jacobian(int k, double t, const double *y, const double *yp,
   // initialization builds hidden constraints from these coefficients).
   std::vector<double> r0(n), r1(n), yy(y, y + n), yyp(yp, yp + n);
   for (int c = 0; c < n; ++c) {
-    double scale = std::max({std::fabs(y[c]), std::fabs(yp[c]),
-                             m_.nominal ? m_.nominal[c] : 1.0});
+    double scale = std::max(
+        {std::fabs(y[c]), std::fabs(yp[c]), m_.nominal ? m_.nominal[c] : 1.0});
     double h = 6e-6 * scale;
     yy[c] = y[c] + h;
     yyp[c] = yp[c] + cj * h;
@@ -47,9 +47,8 @@ int ModelEval::jacobian(int k, double t, const double *y, const double *yp,
   return 0;
 }
 
-int ModelEval::jacobianParts(int k, double t, const double *y,
-                             const double *yp, Eigen::MatrixXd &Fy,
-                             Eigen::MatrixXd &E) const {
+int ModelEval::jacobianParts(int k, double t, const double *y, const double *yp,
+                             Eigen::MatrixXd &Fy, Eigen::MatrixXd &E) const {
   if (int rc = jacobian(k, t, y, yp, 0.0, Fy))
     return rc;
   if (int rc = jacobian(k, t, y, yp, 1.0, E))
@@ -65,8 +64,7 @@ std::string ModelEval::varName(int i) const {
 }
 
 std::string ModelEval::origin(int row) const {
-  if (row < 0 || row >= m_.n || !m_.residual_origin ||
-      !m_.residual_origin[row])
+  if (row < 0 || row >= m_.n || !m_.residual_origin || !m_.residual_origin[row])
     return "";
   return m_.residual_origin[row];
 }

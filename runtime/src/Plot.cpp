@@ -40,8 +40,8 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
   if (ext == ".svg")
     terminal = "svg size 900,540 dynamic enhanced background rgb 'white'";
   else if (ext == ".png")
-    terminal = hasTerminal("pngcairo") ? "pngcairo size 900,540"
-                                       : "png size 900,540";
+    terminal =
+        hasTerminal("pngcairo") ? "pngcairo size 900,540" : "png size 900,540";
   else
     return Error{fmt::format("cannot plot to '{}': the file name must end in "
                              ".svg or .png",
@@ -80,8 +80,8 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
     f << "set datafile separator ' '\n";
     f << "plot ";
     for (size_t i = 0; i < idx.size(); ++i)
-      f << (i ? ", \\\n     " : "") << gnuplotString(dat) << " using 1:"
-        << idx[i] + 2 << " with lines title "
+      f << (i ? ", \\\n     " : "") << gnuplotString(dat)
+        << " using 1:" << idx[i] + 2 << " with lines title "
         << gnuplotString(available[idx[i]]) << " noenhanced";
     f << "\n";
   }

@@ -60,8 +60,8 @@ static size_t editDistance(const std::string &a, const std::string &b) {
   for (size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
     for (size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1,
-                         prev[j - 1] + (a[i - 1] != b[j - 1])});
+      cur[j] = std::min(
+          {prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
     std::swap(prev, cur);
   }
   return prev[b.size()];
@@ -100,10 +100,10 @@ selectColumns(const std::vector<std::string> &available,
     std::string hint;
     for (size_t i = 0; i < close.size(); ++i)
       hint += (i ? ", '" : "'") + close[i] + "'";
-    return Error{close.empty()
-                     ? fmt::format("unknown output '{}'", w)
-                     : fmt::format("unknown output '{}'; did you mean {}?", w,
-                                   hint)};
+    return Error{
+        close.empty()
+            ? fmt::format("unknown output '{}'", w)
+            : fmt::format("unknown output '{}'; did you mean {}?", w, hint)};
   }
   return idx;
 }

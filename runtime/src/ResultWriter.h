@@ -20,8 +20,9 @@ std::string formatValue(double v);
 
 /// Indices into `available` of the `wanted` names, in the order asked.
 /// An unknown name is an Error that lists the closest available names.
-Expected<std::vector<int>> selectColumns(const std::vector<std::string> &available,
-                                         const std::vector<std::string> &wanted);
+Expected<std::vector<int>>
+selectColumns(const std::vector<std::string> &available,
+              const std::vector<std::string> &wanted);
 
 /// Names in `available` close to `name` (edit distance or substring), best
 /// first, at most `limit`.

@@ -61,8 +61,9 @@ Expected<std::vector<double>> resolveParams(const ldae_model &m,
   for (const auto &[name, value] : o.params) {
     auto sel = selectColumns(names, {name});
     if (!sel)
-      return Error{fmt::format("unknown parameter '{}'", name) +
-                   sel.error().substr(sel.error().find(name) + name.size() + 1)};
+      return Error{
+          fmt::format("unknown parameter '{}'", name) +
+          sel.error().substr(sel.error().find(name) + name.size() + 1)};
     p[(*sel)[0]] = value;
   }
   return p;
@@ -148,8 +149,8 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
 
 /// Restarts IDA at the current point with state set `to`.
 bool switchStates(const ModelEval &ev, IdaIntegrator &ida, int to, double t,
-                  double tNext, const std::vector<double> &cond,
-                  SimResult &res, std::ostream *log) {
+                  double tNext, const std::vector<double> &cond, SimResult &res,
+                  std::ostream *log) {
   int from = ida.set();
   int n = ev.n();
   std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
@@ -160,8 +161,8 @@ bool switchStates(const ModelEval &ev, IdaIntegrator &ida, int to, double t,
   }
   int flag = ida.calcIC(tNext);
   if (flag < 0) {
-    res.failure = describeInitFailure(ev, ida, flag, t) +
-                  " (after switching state sets)";
+    res.failure =
+        describeInitFailure(ev, ida, flag, t) + " (after switching state sets)";
     return false;
   }
   ++res.stats.stateSwitches;
@@ -197,8 +198,9 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
 
   std::vector<std::string> available;
   for (int i = 0; i < (m.n_outputs > 0 ? m.n_outputs : m.n); ++i) {
-    const char *name = m.n_outputs > 0 ? m.output_names[i]
-                                       : (m.var_names ? m.var_names[i] : nullptr);
+    const char *name = m.n_outputs > 0
+                           ? m.output_names[i]
+                           : (m.var_names ? m.var_names[i] : nullptr);
     available.push_back(name ? name : fmt::format("y[{}]", i));
   }
   std::vector<int> cols;
@@ -224,9 +226,9 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
       ida->addCounters(res.stats);
       res.stats.sparse = ida->sparse();
     }
-    res.stats.wallTime = std::chrono::duration<double>(
-                             std::chrono::steady_clock::now() - wall0)
-                             .count();
+    res.stats.wallTime =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0)
+            .count();
     if (!res.failure.empty())
       res.status = 3;
     return res;
@@ -271,8 +273,8 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   Progress progress(o.progress, s.start, s.stop);
   double t = s.start;
   int tinySteps = 0; // consecutive steps at round-off level
-  auto target = o.everyStep ? ida.setStopTime(s.stop)
-                            : ida.setStopTime(gridTime(k));
+  auto target =
+      o.everyStep ? ida.setStopTime(s.stop) : ida.setStopTime(gridTime(k));
   if (!target)
     return Error{target.error()};
   while (true) {
@@ -333,8 +335,7 @@ void printStats(const SimStats &st, std::ostream &out) {
       << fmt::format("residual evaluations        {}\n", st.residualEvals)
       << fmt::format("jacobian evaluations        {}\n", st.jacobianEvals)
       << fmt::format("error test failures         {}\n", st.errorTestFailures)
-      << fmt::format("nonlinear conv. failures    {}\n",
-                     st.convergenceFailures)
+      << fmt::format("nonlinear conv. failures    {}\n", st.convergenceFailures)
       << fmt::format("state set switches          {}\n", st.stateSwitches)
       << fmt::format("roots found                 {}\n", st.rootsFound)
       << fmt::format("largest drift residual      {:.3g}\n", st.maxDrift)

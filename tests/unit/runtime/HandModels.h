@@ -32,6 +32,21 @@ inline ldae_model blankModel(const char *name, int n) {
   return m;
 }
 
+/// A model with the common fields set; one state set.
+inline ldae_model makeModel(const char *name, int n, const char *const *names,
+                            const double *y0, const double *yp0,
+                            const double *nominal, const int *fixed,
+                            const ldae_state_set *set) {
+  ldae_model m = blankModel(name, n);
+  m.var_names = names;
+  m.start_y = y0;
+  m.start_yp = yp0;
+  m.nominal = nominal;
+  m.fixed = fixed;
+  m.state_sets = set;
+  return m;
+}
+
 // ---- Robertson --------------------------------------------------------
 namespace robertson_detail {
 inline int res(double, const double *y, const double *yp, const double *,
@@ -78,13 +93,8 @@ inline ldae_model robertson() {
   set.residual = res;
   set.jacobian_dense = jac;
   set.description = "states: y1, y2";
-  ldae_model m = blankModel("Robertson", 3);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
-  m.state_sets = &set;
+  ldae_model m =
+      makeModel("Robertson", 3, names, y0, yp0, nominal, fixed, &set);
   m.n_roots = 2;
   m.roots = roots;
   m.residual_origin = origin;
@@ -105,15 +115,13 @@ inline Len length(double t, const double *p) {
 }
 // Rows 2..4: the constraint, its derivative, and its second derivative
 // with the dummy derivatives eliminated through the equations of motion.
-inline void constraints(double t, const double *y, const double *p,
-                        double *r) {
+inline void constraints(double t, const double *y, const double *p, double *r) {
   Len l = length(t, p);
   double g = p[1];
   r[2] = y[X] * y[X] + y[Y] * y[Y] - l.L * l.L;
   r[3] = y[X] * y[U] + y[Y] * y[V] - l.L * l.dL;
-  r[4] = y[U] * y[U] + y[V] * y[V] -
-         y[LAM] * (y[X] * y[X] + y[Y] * y[Y]) - g * y[Y] - l.dL * l.dL -
-         l.L * l.ddL;
+  r[4] = y[U] * y[U] + y[V] * y[V] - y[LAM] * (y[X] * y[X] + y[Y] * y[Y]) -
+         g * y[Y] - l.dL * l.dL - l.L * l.ddL;
 }
 inline void constraintJac(const double *y, const double *p, double *J) {
   auto at = [J](int r, int c) -> double & { return J[r + 5 * c]; };
@@ -156,8 +164,7 @@ int jac(double, const double *y, const double *, const double *p, double cj,
 }
 // Pivot: d(constraint)/d(the position the constraint determines).
 template <int Other>
-int pivot(double, const double *y, const double *, const double *,
-          double *M) {
+int pivot(double, const double *y, const double *, const double *, double *M) {
   M[0] = 2 * y[Other];
   return 0;
 }
@@ -210,17 +217,11 @@ inline ldae_model pendulum(double eps, double theta0, double omega0) {
   sets[1].jacobian_dense = jac<Y, V>;
   sets[1].pivot = pivot<X>;
   sets[1].description = "states: y, der(y)";
-  ldae_model m = blankModel("Pendulum", 5);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
+  ldae_model m = makeModel("Pendulum", 5, names, y0, yp0, nominal, fixed, sets);
   m.n_params = 4;
   m.param_names = pnames;
   m.param_values = params;
   m.n_state_sets = 2;
-  m.state_sets = sets;
   m.n_drift = 2;
   m.drift = drift;
   m.residual_origin = origin;
@@ -257,16 +258,10 @@ inline ldae_model rcCircuit() {
   set.is_differential = diff;
   set.residual = rc_detail::res;
   set.jacobian_dense = rc_detail::jac;
-  ldae_model m = blankModel("RC", 2);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
+  ldae_model m = makeModel("RC", 2, names, y0, yp0, nominal, fixed, &set);
   m.n_params = 3;
   m.param_names = pnames;
   m.param_values = params;
-  m.state_sets = &set;
   m.stop_time = 5;
   return m;
 }
@@ -292,13 +287,8 @@ inline ldae_model logDomain() {
   static ldae_state_set set{};
   set.is_differential = diff;
   set.residual = domain_detail::res;
-  ldae_model m = blankModel("LogDomain", 2);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
-  m.state_sets = &set;
+  ldae_model m =
+      makeModel("LogDomain", 2, names, y0, yp0, nominal, fixed, &set);
   m.residual_origin = origin;
   return m;
 }
@@ -348,13 +338,8 @@ inline ldae_model index1Init(bool fixZ) {
   fixed[1] = fixZ;
   set.is_differential = diff;
   set.residual = init_detail::res1; // Jacobian by difference quotients
-  ldae_model m = blankModel("Index1Init", 2);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
-  m.state_sets = &set;
+  ldae_model m =
+      makeModel("Index1Init", 2, names, y0, yp0, nominal, fixed, &set);
   return m;
 }
 
@@ -372,16 +357,11 @@ inline ldae_model index2Linear(double x1, double x2, double x3, double c) {
   set.is_differential = diff;
   set.residual = init_detail::res2;
   set.jacobian_dense = init_detail::jac2;
-  ldae_model m = blankModel("Index2Linear", 3);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
+  ldae_model m =
+      makeModel("Index2Linear", 3, names, y0, yp0, nominal, fixed, &set);
   m.n_params = 1;
   m.param_names = pnames;
   m.param_values = params;
-  m.state_sets = &set;
   return m;
 }
 
@@ -411,13 +391,8 @@ inline ldae_model rawPendulum(double theta0) {
   y0[2] = y0[3] = y0[4] = 0;
   set.is_differential = diff;
   set.residual = raw_detail::res; // Jacobian by difference quotients
-  ldae_model m = blankModel("RawPendulum", 5);
-  m.var_names = names;
-  m.start_y = y0;
-  m.start_yp = yp0;
-  m.nominal = nominal;
-  m.fixed = fixed;
-  m.state_sets = &set;
+  ldae_model m =
+      makeModel("RawPendulum", 5, names, y0, yp0, nominal, fixed, &set);
   return m;
 }
 
@@ -481,15 +456,10 @@ inline ldae_model decayChain(int k) {
   set.jac_nnz = 4 * k;
   set.jac_colptr = colptr.data();
   set.jac_rowind = rowind.data();
-  ldae_model m = blankModel("DecayChain", n);
-  m.var_names = names.data();
-  m.start_y = y0.data();
-  m.start_yp = yp0.data();
-  m.nominal = nominal.data();
-  m.fixed = fixed.data();
+  ldae_model m = makeModel("DecayChain", n, names.data(), y0.data(), yp0.data(),
+                           nominal.data(), fixed.data(), &set);
   m.n_params = 1;
   m.param_values = params.data();
-  m.state_sets = &set;
   return m;
 }
 

@@ -29,7 +29,7 @@ TEST(ConsistentInit, FreeDifferentialKeepsStartValue) {
   SimResult r = initOnly(handmodels::index1Init(false), log);
   ASSERT_EQ(r.status, 0) << r.failure;
   ASSERT_EQ(r.rows.size(), 1u);
-  EXPECT_EQ(r.rows[0][1], 1.0);        // x kept
+  EXPECT_EQ(r.rows[0][1], 1.0);         // x kept
   EXPECT_NEAR(r.rows[0][2], 2.0, 1e-8); // z = 2 x, solved to rtol
   EXPECT_NE(log.str().find("index-1 structure"), std::string::npos);
   EXPECT_NE(log.str().find("'z' from 5 to 2"), std::string::npos) << log.str();

@@ -34,7 +34,7 @@ Check compare(const SimResult &r, const testutil::Table &ref, double eps) {
 }
 
 SimResult run(double eps, double stop, double interval, double rtol,
-                std::ostream *log = nullptr) {
+              std::ostream *log = nullptr) {
   ldae_model m = handmodels::pendulum(eps, 1.5, 0.0);
   SimOptions o;
   o.start = 0;
