@@ -38,3 +38,53 @@ TEST(Failure, DomainErrorNamesTimeAndEquation) {
   writeCsv(*r, csv);
   EXPECT_EQ(csv.str().substr(0, 8), "time,y,z");
 }
+
+namespace {
+// y' = 1, 0 = z^2 + y - 1: z = sqrt(1 - y) meets a singular Jacobian (2 z)
+// at t = 1 and has no real solution after it.
+int foldRes(double, const double *y, const double *yp, const double *,
+            double *r) {
+  r[0] = yp[0] - 1;
+  r[1] = y[1] * y[1] + y[0] - 1;
+  return 0;
+}
+int foldJac(double, const double *y, const double *, const double *,
+            double cj, double *J) {
+  J[0] = cj;
+  J[1] = 1;
+  J[2] = 0;
+  J[3] = 2 * y[1];
+  return 0;
+}
+} // namespace
+
+TEST(Failure, SingularIterationMatrixNamesEquationAndHint) {
+  static const char *names[] = {"y", "z"};
+  static const char *origin[] = {"fold.lsd:3", "fold.lsd:4"};
+  static const double y0[] = {0, 1}, yp0[] = {1, 0}, nominal[] = {1, 1};
+  static const int fixed[] = {1, 0}, diff[] = {1, 0};
+  static ldae_state_set set{};
+  set.is_differential = diff;
+  set.residual = foldRes;
+  set.jacobian_dense = foldJac;
+  ldae_model m = handmodels::makeModel("Fold", 2, names, y0, yp0, nominal,
+                                       fixed, &set);
+  m.residual_origin = origin;
+  SimOptions o;
+  o.stop = 2;
+  o.progress = false;
+  auto r = simulate(m, o);
+  ASSERT_TRUE(r) << r.error();
+  EXPECT_EQ(r->status, 3);
+  std::smatch at;
+  ASSERT_TRUE(std::regex_search(
+      r->failure, at, std::regex("simulation failed at t = (\\S+):")))
+      << r->failure;
+  EXPECT_NEAR(std::stod(at[1]), 1.0, 0.01);
+  EXPECT_NE(r->failure.find("largest local errors: 'z'"), std::string::npos)
+      << r->failure;
+  EXPECT_NE(r->failure.find("in equation 2 at fold.lsd:4"), std::string::npos)
+      << r->failure;
+  EXPECT_NE(r->failure.find("try --method dd"), std::string::npos);
+  EXPECT_LE(r->rows.back()[0], 1.0);
+}
