@@ -84,3 +84,40 @@ TEST(RcCircuit, LogReportsInitialization) {
       << log.str();
   EXPECT_EQ(log.str().find("'C.v' from"), std::string::npos) << log.str();
 }
+
+namespace {
+// Reported variables: the resistor's power R i^2 and the capacitor's
+// charge C v.
+int rcOutputs(double, const double *y, const double *, const double *p,
+              double *out) {
+  out[0] = p[0] * y[1] * y[1];
+  out[1] = p[1] * y[0];
+  return 0;
+}
+} // namespace
+
+TEST(RcCircuit, OutputsFunctionGivesTheColumns) {
+  static const char *outNames[] = {"R.p", "C.q"};
+  ldae_model m = handmodels::rcCircuit();
+  m.n_outputs = 2;
+  m.output_names = outNames;
+  m.outputs = rcOutputs;
+  SimOptions o;
+  o.stop = 1;
+  o.rtol = 1e-10;
+  o.atol = 1e-12;
+  o.progress = false;
+  auto r = simulate(m, o);
+  ASSERT_TRUE(r) << r.error();
+  ASSERT_EQ(r->columns, (std::vector<std::string>{"time", "R.p", "C.q"}));
+  for (const auto &row : r->rows) {
+    double t = row[0], i = std::exp(-t) / 1000;
+    EXPECT_NEAR(row[1], 1000 * i * i, 1e-12);
+    EXPECT_NEAR(row[2], 1e-3 * (1 - std::exp(-t)), 1e-11);
+  }
+  // Selection is by output name now; unknowns are not columns.
+  o.outputs = {"C.v"};
+  auto bad = simulate(m, o);
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error(), "unknown output 'C.v'; did you mean 'C.q'?");
+}
