@@ -309,6 +309,7 @@ int eliminateOnce(AnalysisState &s) {
 
   if (s.aliases.size() == before)
     return 0;
+  s.matchingCurrent = false;
   // Apply: drop the alias equations, rewrite everything else.
   std::vector<ir::Equation> kept;
   for (size_t i = 0; i < m.equations.size(); ++i) {

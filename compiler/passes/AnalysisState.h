@@ -8,6 +8,7 @@
 #include "ir/DaeSystem.h"
 #include "ir/Evaluate.h"
 #include "passes/Pipeline.h"
+#include "passes/SystemStructure.h"
 
 #include <functional>
 #include <map>
@@ -58,6 +59,7 @@ struct AnalysisState {
   std::vector<int> originalOrder;        // highest order of each unknown
   graph::BipartiteGraph merged;          // equations x unknowns (orders merged)
   graph::Matching mergedMatching;
+  bool matchingCurrent = false; // merged/unknowns/equations match the model
 
   // pantelides
   bool reduced = false;
@@ -78,6 +80,8 @@ struct AnalysisState {
   /// Per state set: row of the residual matched to each unknown (BLT).
   std::vector<graph::Matching> systemMatchings;
   std::vector<graph::BipartiteGraph> systemGraphs;
+  /// Per state set, the slots each residual reads (see SystemStructure.h).
+  std::vector<SystemReads> systemReads;
 
   /// "file:line" of a location, or "" when it has none.
   std::string where(SourceLoc loc) const;

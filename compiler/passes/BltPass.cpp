@@ -16,8 +16,10 @@ bool runBlt(AnalysisState &s) {
   const ir::DaeSystem &sys = s.system;
   s.systemGraphs.clear();
   s.systemMatchings.clear();
+  s.systemReads.clear();
   for (size_t set = 0; set < sys.stateSets.size(); ++set) {
-    graph::BipartiteGraph g = systemGraph(sys, set, true);
+    s.systemReads.push_back(systemReads(sys, set));
+    graph::BipartiteGraph g = systemGraph(sys, set, s.systemReads.back(), true);
     graph::Matching m = graph::maximumMatching(g);
     // The unreduced system of `--method raw` is singular whenever the
     // model's index exceeds one: that is what raw is for.

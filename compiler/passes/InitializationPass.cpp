@@ -132,18 +132,24 @@ bool runInitialization(AnalysisState &s) {
       is.colName.push_back("der(" + sys.unknowns[u].name + ")");
     }
   is.g.numCols = static_cast<int>(is.start.size());
-  auto addRow = [&](ir::ExprRef e, int fixed, SourceLoc loc, std::string text) {
+  auto addRow = [&](ir::ExprRef e, int fixed, SourceLoc loc, std::string text,
+                    const std::vector<SlotRead> *known = nullptr) {
     std::vector<int> cols;
     if (fixed >= 0) {
       cols.push_back(fixed);
     } else {
-      for (ir::VarKey k : variablesOf(e)) {
-        SlotRead sr = layout.read(k);
-        if (sr.unknown < 0)
-          continue;
+      std::vector<SlotRead> reads;
+      if (!known) {
+        for (ir::VarKey k : variablesOf(e)) {
+          SlotRead sr = layout.read(k);
+          if (sr.unknown >= 0)
+            reads.push_back(sr);
+        }
+        known = &reads;
+      }
+      for (SlotRead sr : *known)
         cols.push_back(sr.derivative ? is.colOfDerivative[sr.unknown]
                                      : sr.unknown);
-      }
       std::sort(cols.begin(), cols.end());
       cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
     }
@@ -156,7 +162,7 @@ bool runInitialization(AnalysisState &s) {
   for (size_t r = 0; r < st.residuals.size(); ++r)
     addRow(st.residuals[r], -1,
            r < sys.residualLocs.size() ? sys.residualLocs[r] : SourceLoc{},
-           "");
+           "", s.systemReads.empty() ? nullptr : &s.systemReads[0][r]);
   const int firstFixed = is.g.numRows();
   for (int u = 0; u < n; ++u)
     if (sys.unknowns[u].fixed) {

@@ -15,6 +15,8 @@
 namespace ldae::passes {
 
 bool runMatching(AnalysisState &s) {
+  if (s.matchingCurrent)
+    return true; // alias elimination changed nothing since it matched
   ir::Model &m = s.model;
   const size_t nv = m.variables.size();
   if (s.eliminated.size() < nv)
@@ -83,6 +85,7 @@ bool runMatching(AnalysisState &s) {
     row.erase(std::unique(row.begin(), row.end()), row.end());
   }
   s.mergedMatching = graph::maximumMatching(s.merged);
+  s.matchingCurrent = true;
   return true;
 }
 

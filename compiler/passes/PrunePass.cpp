@@ -30,7 +30,7 @@ bool runPrune(AnalysisState &s) {
       want(layout0.read(k).unknown);
   std::vector<graph::BipartiteGraph> reads;
   for (size_t set = 0; set < sys.stateSets.size(); ++set)
-    reads.push_back(systemGraph(sys, set, false));
+    reads.push_back(systemGraph(sys, set, s.systemReads[set], false));
   for (size_t q = 0; q < queue.size(); ++q) {
     int u = queue[q];
     for (size_t set = 0; set < sys.stateSets.size(); ++set) {

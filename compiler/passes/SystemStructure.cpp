@@ -10,24 +10,16 @@ namespace ldae::passes {
 
 std::vector<ir::VarKey> variablesOf(ir::ExprRef e) {
   std::vector<ir::VarKey> out;
-  // Reused buffers: this runs once per residual, many times per pass.
-  thread_local std::vector<ir::ExprRef> stack, seenSmall;
-  thread_local std::unordered_set<ir::ExprRef> seen;
+  // Visited marks by node id with a generation stamp: no clearing between
+  // calls, O(1) per node (this runs once per residual, many times).
+  thread_local std::vector<uint32_t> stamp;
+  thread_local uint32_t generation = 0;
+  thread_local std::vector<ir::ExprRef> stack;
+  if (++generation == 0) {
+    std::fill(stamp.begin(), stamp.end(), 0);
+    generation = 1;
+  }
   stack.assign(1, e);
-  seenSmall.clear();
-  if (!seen.empty()) // clear() would wipe every bucket, even when empty
-    seen.clear();
-  auto visited = [&](ir::ExprRef n) {
-    if (seen.empty()) {
-      if (std::find(seenSmall.begin(), seenSmall.end(), n) != seenSmall.end())
-        return true;
-      seenSmall.push_back(n);
-      if (seenSmall.size() > 32)
-        seen.insert(seenSmall.begin(), seenSmall.end());
-      return false;
-    }
-    return !seen.insert(n).second;
-  };
   while (!stack.empty()) {
     ir::ExprRef n = stack.back();
     stack.pop_back();
@@ -36,8 +28,11 @@ std::vector<ir::VarKey> variablesOf(ir::ExprRef e) {
         out.push_back(n->varKey());
       continue;
     }
-    if (visited(n))
+    if (n->id() >= stamp.size())
+      stamp.resize(std::max<size_t>(n->id() + 1, 2 * stamp.size()), 0);
+    if (stamp[n->id()] == generation)
       continue;
+    stamp[n->id()] = generation;
     for (ir::ExprRef op : n->operands())
       stack.push_back(op);
   }
@@ -118,18 +113,27 @@ SlotRead SystemLayout::read(ir::VarKey key) const {
   return {};
 }
 
-graph::BipartiteGraph systemGraph(const ir::DaeSystem &sys, size_t set,
-                                  bool solved) {
+SystemReads systemReads(const ir::DaeSystem &sys, size_t set) {
   const ir::StateSet &st = sys.stateSets[set];
   SystemLayout layout(sys, set);
-  graph::BipartiteGraph g(static_cast<int>(st.residuals.size()),
-                          static_cast<int>(sys.unknowns.size()));
-  for (size_t r = 0; r < st.residuals.size(); ++r) {
-    std::vector<int> &row = g.rows[r];
+  SystemReads reads(st.residuals.size());
+  for (size_t r = 0; r < st.residuals.size(); ++r)
     for (ir::VarKey k : variablesOf(st.residuals[r])) {
       SlotRead sr = layout.read(k);
-      if (sr.unknown < 0)
-        continue;
+      if (sr.unknown >= 0)
+        reads[r].push_back(sr);
+    }
+  return reads;
+}
+
+graph::BipartiteGraph systemGraph(const ir::DaeSystem &sys, size_t set,
+                                  const SystemReads &reads, bool solved) {
+  const ir::StateSet &st = sys.stateSets[set];
+  graph::BipartiteGraph g(static_cast<int>(st.residuals.size()),
+                          static_cast<int>(sys.unknowns.size()));
+  for (size_t r = 0; r < reads.size(); ++r) {
+    std::vector<int> &row = g.rows[r];
+    for (SlotRead sr : reads[r]) {
       if (solved && st.differential[sr.unknown] && !sr.derivative)
         continue; // a state: known to the solver
       row.push_back(sr.unknown);

@@ -58,10 +58,14 @@ private:
   std::unordered_map<uint64_t, int> derivative_;
 };
 
+/// For each residual of state set `set`, the slots it reads (sorted).
+using SystemReads = std::vector<std::vector<SlotRead>>;
+SystemReads systemReads(const ir::DaeSystem &sys, size_t set);
+
 /// Rows: residuals of set `set`; columns: unknowns. With `solved` only the
 /// entries an index-1 solver solves for (see above); otherwise every slot
 /// read (y or y').
 graph::BipartiteGraph systemGraph(const ir::DaeSystem &sys, size_t set,
-                                  bool solved);
+                                  const SystemReads &reads, bool solved);
 
 } // namespace ldae::passes
