@@ -86,6 +86,18 @@ std::vector<std::string> closeNames(const std::vector<std::string> &available,
   return out;
 }
 
+Error unknownNameError(const std::string &kind, const std::string &name,
+                       const std::vector<std::string> &available) {
+  std::vector<std::string> close = closeNames(available, name);
+  std::string hint;
+  for (size_t i = 0; i < close.size(); ++i)
+    hint += (i ? ", '" : "'") + close[i] + "'";
+  if (close.empty())
+    return Error{fmt::format("unknown {} '{}'", kind, name)};
+  return Error{
+      fmt::format("unknown {} '{}'; did you mean {}?", kind, name, hint)};
+}
+
 Expected<std::vector<int>>
 selectColumns(const std::vector<std::string> &available,
               const std::vector<std::string> &wanted) {
@@ -96,14 +108,7 @@ selectColumns(const std::vector<std::string> &available,
       idx.push_back(int(it - available.begin()));
       continue;
     }
-    std::vector<std::string> close = closeNames(available, w);
-    std::string hint;
-    for (size_t i = 0; i < close.size(); ++i)
-      hint += (i ? ", '" : "'") + close[i] + "'";
-    return Error{
-        close.empty()
-            ? fmt::format("unknown output '{}'", w)
-            : fmt::format("unknown output '{}'; did you mean {}?", w, hint)};
+    return unknownNameError("output", w, available);
   }
   return idx;
 }

@@ -24,6 +24,11 @@ Expected<std::vector<int>>
 selectColumns(const std::vector<std::string> &available,
               const std::vector<std::string> &wanted);
 
+/// "unknown <kind> 'name'; did you mean 'a', 'b'?" (the close names from
+/// `available`, if any).
+Error unknownNameError(const std::string &kind, const std::string &name,
+                       const std::vector<std::string> &available);
+
 /// Names in `available` close to `name` (edit distance or substring), best
 /// first, at most `limit`.
 std::vector<std::string> closeNames(const std::vector<std::string> &available,

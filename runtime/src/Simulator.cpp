@@ -10,6 +10,7 @@
 #include "ResultWriter.h"
 #include "StateSelection.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
@@ -59,12 +60,10 @@ Expected<std::vector<double>> resolveParams(const ldae_model &m,
   for (int i = 0; i < m.n_params; ++i)
     names.push_back(m.param_names && m.param_names[i] ? m.param_names[i] : "");
   for (const auto &[name, value] : o.params) {
-    auto sel = selectColumns(names, {name});
-    if (!sel)
-      return Error{
-          fmt::format("unknown parameter '{}'", name) +
-          sel.error().substr(sel.error().find(name) + name.size() + 1)};
-    p[(*sel)[0]] = value;
+    auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end())
+      return unknownNameError("parameter", name, names);
+    p[it - names.begin()] = value;
   }
   return p;
 }

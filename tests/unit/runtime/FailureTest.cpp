@@ -48,8 +48,8 @@ int foldRes(double, const double *y, const double *yp, const double *,
   r[1] = y[1] * y[1] + y[0] - 1;
   return 0;
 }
-int foldJac(double, const double *y, const double *, const double *,
-            double cj, double *J) {
+int foldJac(double, const double *y, const double *, const double *, double cj,
+            double *J) {
   J[0] = cj;
   J[1] = 1;
   J[2] = 0;
@@ -67,8 +67,8 @@ TEST(Failure, SingularIterationMatrixNamesEquationAndHint) {
   set.is_differential = diff;
   set.residual = foldRes;
   set.jacobian_dense = foldJac;
-  ldae_model m = handmodels::makeModel("Fold", 2, names, y0, yp0, nominal,
-                                       fixed, &set);
+  ldae_model m =
+      handmodels::makeModel("Fold", 2, names, y0, yp0, nominal, fixed, &set);
   m.residual_origin = origin;
   SimOptions o;
   o.stop = 2;
@@ -77,8 +77,8 @@ TEST(Failure, SingularIterationMatrixNamesEquationAndHint) {
   ASSERT_TRUE(r) << r.error();
   EXPECT_EQ(r->status, 3);
   std::smatch at;
-  ASSERT_TRUE(std::regex_search(
-      r->failure, at, std::regex("simulation failed at t = (\\S+):")))
+  ASSERT_TRUE(std::regex_search(r->failure, at,
+                                std::regex("simulation failed at t = (\\S+):")))
       << r->failure;
   EXPECT_NEAR(std::stod(at[1]), 1.0, 0.01);
   EXPECT_NE(r->failure.find("largest local errors: 'z'"), std::string::npos)
