@@ -82,28 +82,32 @@ public:
       : os_(os), fn_(fn), chunk_(c) {}
 
   void print() {
+    uint32_t next = chunk_.storeBegin;
     for (uint32_t k = chunk_.nodeBegin; k < chunk_.nodeEnd; ++k) {
       const PlanNode &n = fn_.nodes[k];
-      if (isLeaf(n.op))
-        continue;
-      printNode(k);
-      if (fn_.spill[k] >= 0) {
-        os_ << "  tmp[" << fn_.spill[k] << "] = v" << k << ";\n";
-        if (n.mayFail)
-          os_ << "  tmp[" << fn_.spill[k] + 1 << "] = e" << k << ";\n";
+      if (!isLeaf(n.op)) {
+        printNode(k);
+        if (fn_.spill[k] >= 0) {
+          os_ << "  tmp[" << fn_.spill[k] << "] = v" << k << ";\n";
+          if (n.mayFail)
+            os_ << "  tmp[" << fn_.spill[k] + 1 << "] = e" << k << ";\n";
+        }
       }
+      for (; next < chunk_.storeEnd && fn_.stores[next].after <= k; ++next)
+        printStore(fn_.stores[next]);
     }
-    for (uint32_t i = chunk_.storeBegin; i < chunk_.storeEnd; ++i) {
-      const PlanStore &s = fn_.stores[i];
-      os_ << "  out" << int(s.array) << "[" << s.index << "] = " << ref(s.node)
-          << ";\n";
-      if (fn_.nodes[s.node].mayFail)
-        os_ << "  if (!rc && " << err(s.node) << ") rc = " << s.row + 1
-            << ";\n";
-    }
+    for (; next < chunk_.storeEnd; ++next)
+      printStore(fn_.stores[next]);
   }
 
 private:
+  void printStore(const PlanStore &s) {
+    os_ << "  out" << int(s.array) << "[" << s.index << "] = " << ref(s.node)
+        << ";\n";
+    if (fn_.nodes[s.node].mayFail)
+      os_ << "  if (!rc && " << err(s.node) << ") rc = " << s.row + 1 << ";\n";
+  }
+
   bool inChunk(uint32_t k) const {
     return k >= chunk_.nodeBegin && k < chunk_.nodeEnd;
   }

@@ -386,6 +386,7 @@ void assignChunks(PlanFunction &fn, unsigned size) {
   uint32_t pos = 0;
   for (size_t i = 0; i < fn.stores.size(); ++i) {
     pos = std::max(pos, fn.stores[i].node);
+    fn.stores[i].after = pos;
     storeChunk[i] = std::min(chunkOf.empty() ? 0 : chunkOf[pos], numChunks - 1);
   }
   for (uint32_t c = 0, i = 0; c < numChunks; ++c) {

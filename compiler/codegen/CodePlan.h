@@ -79,6 +79,9 @@ struct PlanStore {
   uint8_t array = 0; // 0: first output array, 1: second (init Jacobian Jyp)
   uint32_t index = 0;
   uint32_t row = 0;
+  /// Runs right after this node (>= node, nondecreasing over the stores),
+  /// so values are written as soon as they are ready and stay in order.
+  uint32_t after = 0;
 };
 
 /// The C ABI signature a function implements.
@@ -135,7 +138,7 @@ struct CodePlan {
 
 struct PlanOptions {
   /// Non-leaf nodes per chunk (machine function).
-  unsigned chunkSize = 2000;
+  unsigned chunkSize = 256;
   /// Resolves residual locations to "file:line" (optional).
   const class ldae::SourceManager *sources = nullptr;
 };

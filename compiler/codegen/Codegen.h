@@ -20,7 +20,7 @@ struct CodegenOptions {
   /// LLVM ORC JIT when true; the plan interpreter (`--jit off`) otherwise.
   bool jit = true;
   /// Non-leaf operations per machine function (bounds compile time).
-  unsigned chunkSize = 2000;
+  unsigned chunkSize = 256;
   /// Resolves residual locations for ldae_model::residual_origin.
   const SourceManager *sources = nullptr;
 };

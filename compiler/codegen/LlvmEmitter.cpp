@@ -16,6 +16,7 @@
 #include "llvm/IR/Module.h"
 #include "llvm/IR/Verifier.h"
 #include "llvm/Passes/PassBuilder.h"
+#include "llvm/Support/CommandLine.h"
 #include "llvm/Support/TargetSelect.h"
 #include "llvm/Support/raw_ostream.h"
 #include "llvm/Target/TargetMachine.h"
@@ -70,42 +71,55 @@ public:
 
   /// Emits nodes and stores; returns the i32 return code.
   llvm::Value *emit() {
+    rc_ = b_.getInt32(0);
+    uint32_t next = chunk_.storeBegin;
     for (uint32_t k = chunk_.nodeBegin; k < chunk_.nodeEnd; ++k) {
       const PlanNode &n = fn_.nodes[k];
-      if (isLeaf(n.op))
-        continue;
-      computeNode(k);
-      if (fn_.spill[k] >= 0) {
-        b_.CreateStore(val_[k], slot(fn_.spill[k]));
-        if (n.mayFail)
-          b_.CreateStore(b_.CreateUIToFP(err_[k], dbl_),
-                         slot(fn_.spill[k] + 1));
+      if (!isLeaf(n.op)) {
+        computeNode(k);
+        if (fn_.spill[k] >= 0) {
+          b_.CreateStore(val_[k], slot(fn_.spill[k]));
+          if (n.mayFail)
+            b_.CreateStore(b_.CreateUIToFP(err_[k], dbl_),
+                           slot(fn_.spill[k] + 1));
+        }
       }
+      for (; next < chunk_.storeEnd && fn_.stores[next].after <= k; ++next)
+        store(fn_.stores[next]);
     }
-    llvm::Value *rc = b_.getInt32(0);
-    for (uint32_t i = chunk_.storeBegin; i < chunk_.storeEnd; ++i) {
-      const PlanStore &s = fn_.stores[i];
-      llvm::Value *out = s.array ? args_.out1 : args_.out0;
-      b_.CreateStore(value(s.node), b_.CreateConstInBoundsGEP1_64(
-                                        dbl_, out, s.index));
-      if (fn_.nodes[s.node].mayFail) {
-        llvm::Value *first = b_.CreateAnd(
-            b_.CreateICmpEQ(rc, b_.getInt32(0)), error(s.node));
-        rc = b_.CreateSelect(first, b_.getInt32(s.row + 1), rc);
-      }
-    }
-    return rc;
+    for (; next < chunk_.storeEnd; ++next)
+      store(fn_.stores[next]);
+    return rc_;
   }
 
 private:
+  /// Writes a store's value; a set error bit makes it the return code
+  /// unless an earlier store already failed.
+  void store(const PlanStore &s) {
+    llvm::Value *out = s.array ? args_.out1 : args_.out0;
+    b_.CreateStore(value(s.node),
+                   b_.CreateConstInBoundsGEP1_64(dbl_, out, s.index));
+    if (fn_.nodes[s.node].mayFail) {
+      llvm::Value *first =
+          b_.CreateAnd(b_.CreateICmpEQ(rc_, b_.getInt32(0)), error(s.node));
+      rc_ = b_.CreateSelect(first, b_.getInt32(s.row + 1), rc_);
+    }
+  }
+
   bool inChunk(uint32_t k) const {
     return k >= chunk_.nodeBegin && k < chunk_.nodeEnd;
   }
   llvm::Value *slot(int32_t i) {
     return b_.CreateConstInBoundsGEP1_64(dbl_, args_.tmp, i);
   }
+  /// Inputs never change during a call: invariant, dereferenceable loads
+  /// need no ordering against stores (keeps instruction scheduling cheap).
   llvm::Value *load(llvm::Value *base, int64_t i) {
-    return b_.CreateLoad(dbl_, b_.CreateConstInBoundsGEP1_64(dbl_, base, i));
+    llvm::LoadInst *l =
+        b_.CreateLoad(dbl_, b_.CreateConstInBoundsGEP1_64(dbl_, base, i));
+    l->setMetadata(llvm::LLVMContext::MD_invariant_load,
+                   llvm::MDNode::get(b_.getContext(), {}));
+    return l;
   }
 
   /// The value of node k here: leaves re-materialized, earlier chunks'
@@ -284,7 +298,27 @@ private:
   Args args_;
   llvm::Type *dbl_;
   std::vector<llvm::Value *> val_, err_;
+  llvm::Value *rc_ = nullptr;
 };
+
+/// Inputs are read-only, outputs write-only-by-us and unaliased (the ABI:
+/// the runtime never passes overlapping arrays), so loads and stores can be
+/// reordered freely; this also keeps instruction scheduling linear.
+void setPointerAttributes(const CodePlan &plan, llvm::Function *f,
+                          std::vector<unsigned> inputs,
+                          std::vector<unsigned> outputs) {
+  for (unsigned i : inputs) {
+    f->addParamAttr(i, llvm::Attribute::ReadOnly);
+    f->addParamAttr(i, llvm::Attribute::NoCapture);
+    uint64_t size = i == 3 ? plan.paramValues.size() : plan.n;
+    if (size)
+      f->addDereferenceableParamAttr(i, size * 8);
+  }
+  for (unsigned i : outputs) {
+    f->addParamAttr(i, llvm::Attribute::NoAlias);
+    f->addParamAttr(i, llvm::Attribute::NoCapture);
+  }
+}
 
 /// Emits one plan function with its exported C ABI signature.
 void emitFunction(llvm::Module &m, const CodePlan &plan,
@@ -304,10 +338,6 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
                                    llvm::Function::ExternalLinkage,
                                    functionSymbol(plan, fn), m);
   f->addFnAttr(llvm::Attribute::NoUnwind);
-  for (unsigned i = 1; i <= 3; ++i) {
-    f->addParamAttr(i, llvm::Attribute::ReadOnly);
-    f->addParamAttr(i, llvm::Attribute::NoCapture);
-  }
   ChunkEmitter::Args args{};
   auto arg = [&](unsigned i) -> llvm::Value * { return f->getArg(i); };
   args.t = arg(0);
@@ -320,11 +350,11 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
                                       : llvm::ConstantFP::get(dbl, 0.0);
   args.out0 = arg(next++);
   args.out1 = fn.sig == FnSig::InitJacobian ? arg(next++) : nullPtr;
+  std::vector<unsigned> outs;
   for (unsigned i = 4; i < f->arg_size(); ++i)
-    if (f->getArg(i)->getType()->isPointerTy()) {
-      f->addParamAttr(i, llvm::Attribute::NoAlias);
-      f->addParamAttr(i, llvm::Attribute::NoCapture);
-    }
+    if (f->getArg(i)->getType()->isPointerTy())
+      outs.push_back(i);
+  setPointerAttributes(plan, f, {1, 2, 3}, outs);
 
   auto *entry = llvm::BasicBlock::Create(ctx, "entry", f);
   b.SetInsertPoint(entry);
@@ -366,6 +396,7 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
         functionSymbol(plan, fn) + ".chunk" + std::to_string(c), m);
     cf->addFnAttr(llvm::Attribute::NoInline);
     cf->addFnAttr(llvm::Attribute::NoUnwind);
+    setPointerAttributes(plan, cf, {1, 2, 3}, {5, 6, 7});
     llvm::IRBuilder<> cb(llvm::BasicBlock::Create(ctx, "entry", cf));
     ChunkEmitter::Args ca{cf->getArg(0), cf->getArg(1), cf->getArg(2),
                           cf->getArg(3), cf->getArg(4), cf->getArg(5),
@@ -391,6 +422,11 @@ void initializeLlvm() {
   std::call_once(once, [] {
     llvm::InitializeNativeTarget();
     llvm::InitializeNativeTargetAsmPrinter();
+    // The post-RA list scheduler is quadratic in the memory operations of
+    // a block and buys little on out-of-order x86 cores; it was a third of
+    // the backend's time on large models.
+    const char *args[] = {"ldaec", "-post-RA-scheduler=false"};
+    llvm::cl::ParseCommandLineOptions(2, args, "", &llvm::nulls());
   });
 }
 

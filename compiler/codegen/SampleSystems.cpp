@@ -241,11 +241,8 @@ SampleSystem domainErrors() {
   auto k = [&](double x) { return c.constant(x); };
   ExprRef x = b.state("x", false, 2);
   std::vector<ExprRef> rhs = {
-      c.ifThenElse(
-          c.logicalAnd(c.compare(CompareKind::Gt, x, k(100)),
-                       c.compare(CompareKind::Gt,
-                                 c.call(FuncKind::Log, c.sub(x, k(200))), k(0))),
-          k(1), k(0)),
+      c.ifThenElse(c.compare(CompareKind::Gt, x, k(100)),
+                   c.call(FuncKind::Log, c.sub(x, k(200))), k(0)),
       c.call(FuncKind::Log, x),
       c.call(FuncKind::Sqrt, c.sub(x, k(1))),
       c.div(k(1), c.sub(x, k(3))),
