@@ -5,15 +5,21 @@
 #include "Options.h"
 
 #include "frontend/Frontend.h"
+#include "codegen/Codegen.h"
 #include "passes/Pipeline.h"
 #include "support/Diagnostics.h"
+#include "Plot.h"
+#include "ResultWriter.h"
+#include "Simulator.h"
 
 #include <nlohmann/json.hpp>
 
 #include <CLI/CLI.hpp>
 
+#include <chrono>
 #include <fstream>
 #include <iostream>
+#include <unistd.h>
 
 using namespace ldae;
 
@@ -100,6 +106,72 @@ int main(int argc, char **argv) {
                ? 0
                : 1;
 
-  std::cerr << "ldaec: error: the pipeline after the analysis is not built yet\n";
-  return 1;
+  // 4. Code generation: LLVM JIT (or the interpreter), or text.
+  codegen::CodegenOptions cgOpts;
+  cgOpts.jit = opts.jit == "on";
+  cgOpts.sources = &sources;
+  if (opts.emit == "llvm" || opts.emit == "c") {
+    Expected<std::string> text =
+        opts.emit == "llvm"
+            ? codegen::emitLlvm(*analysis.system, cgOpts)
+            : codegen::emitC(*analysis.system, opts.emitMain, cgOpts);
+    if (!text) {
+      std::cerr << "ldaec: error: " << text.error() << "\n";
+      return 1;
+    }
+    return writeOutput(opts.outputFile, *text) ? 0 : 1;
+  }
+  if (!opts.simulate) {
+    // No action asked: the model checked out; say what it is.
+    passes::printAnalysis(analysis, std::cout);
+    return 0;
+  }
+  auto compileStart = std::chrono::steady_clock::now();
+  Expected<std::unique_ptr<codegen::CompiledModel>> compiled =
+      codegen::compile(*analysis.system, cgOpts);
+  if (!compiled) {
+    std::cerr << "ldaec: error: " << compiled.error() << "\n";
+    return 1;
+  }
+  double compileSeconds = std::chrono::duration<double>(
+                              std::chrono::steady_clock::now() - compileStart)
+                              .count();
+  if (opts.timePasses)
+    std::cerr << "codegen: " << compileSeconds * 1e3 << " ms\n";
+
+  // 5. Integrate and write the results.
+  runtime::SimOptions simOpts;
+  simOpts.start = opts.startTime;
+  simOpts.stop = opts.stopTime;
+  simOpts.rtol = opts.rtol;
+  simOpts.atol = opts.atol;
+  simOpts.interval = opts.interval;
+  simOpts.everyStep = opts.everyStep;
+  simOpts.outputs = passOpts.outputs;
+  simOpts.progress = !opts.noProgress && isatty(STDERR_FILENO);
+  simOpts.log = &std::cerr;
+  Expected<runtime::SimResult> result =
+      runtime::simulate((*compiled)->model(), simOpts);
+  if (!result) {
+    std::cerr << "ldaec: error: " << result.error() << "\n";
+    return 2;
+  }
+  if (result->status != 0)
+    std::cerr << result->failure << "\n";
+  Expected<bool> written = runtime::writeCsv(
+      *result, opts.outputFile.empty() ? std::string("-") : opts.outputFile);
+  if (!written) {
+    std::cerr << "ldaec: error: " << written.error() << "\n";
+    return 1;
+  }
+  if (!opts.plotFile.empty()) {
+    Expected<bool> plotted = runtime::plot(*result, opts.plotFile);
+    if (!plotted)
+      std::cerr << "ldaec: error: " << plotted.error() << "\n";
+  }
+  if (opts.stats) {
+    std::cerr << "compile time: " << compileSeconds << " s\n";
+    runtime::printStats(result->stats, std::cerr);
+  }
+  return result->status == 0 ? 0 : 3;
 }
