@@ -47,29 +47,6 @@ std::string quote(const std::string &s) {
   return out + "\"";
 }
 
-const char *cFunc(FuncKind f) {
-  switch (f) {
-  case FuncKind::Sin: return "sin";
-  case FuncKind::Cos: return "cos";
-  case FuncKind::Tan: return "tan";
-  case FuncKind::Asin: return "asin";
-  case FuncKind::Acos: return "acos";
-  case FuncKind::Atan: return "atan";
-  case FuncKind::Atan2: return "atan2";
-  case FuncKind::Sinh: return "sinh";
-  case FuncKind::Cosh: return "cosh";
-  case FuncKind::Tanh: return "tanh";
-  case FuncKind::Exp: return "exp";
-  case FuncKind::Log: return "log";
-  case FuncKind::Log10: return "log10";
-  case FuncKind::Sqrt: return "sqrt";
-  case FuncKind::Abs: return "fabs";
-  case FuncKind::Floor: return "floor";
-  case FuncKind::Ceil: return "ceil";
-  default: return nullptr;
-  }
-}
-
 const char *cCompare(CompareKind c) {
   static const char *ops[] = {"<", "<=", ">", ">=", "==", "!="};
   return ops[unsigned(c)];
@@ -180,7 +157,7 @@ private:
       if (f == FuncKind::Sign)
         expr = "(double)(" + a + " > 0.0) - (double)(" + a + " < 0.0)";
       else
-        expr = std::string(cFunc(f)) + "(" + a + ")";
+        expr = std::string(cMathName(f)) + "(" + a + ")";
       if (f == FuncKind::Log || f == FuncKind::Log10)
         check = "!(" + a + " > 0.0)";
       else if (f == FuncKind::Asin || f == FuncKind::Acos)

@@ -157,6 +157,10 @@ struct PowIntStep {
 };
 std::vector<PowIntStep> powIntSteps(int32_t k);
 
+/// The C math library function computing built-in `f` ("sin", "fabs",
+/// "atan2"...), or null for those lowered inline (sign, min, max, mod).
+const char *cMathName(ir::FuncKind f);
+
 /// The threshold rule shared with the runtime (LDAE_DENSE_THRESHOLD).
 bool useDenseJacobian(unsigned n);
 

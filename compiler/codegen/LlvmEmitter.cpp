@@ -39,21 +39,6 @@ namespace {
 /// allocated with malloc.
 constexpr uint64_t kMaxStackScratch = 64 * 1024;
 
-/// libm functions called by name (no LLVM intrinsic lowers to them here).
-const char *libmName(FuncKind f) {
-  switch (f) {
-  case FuncKind::Tan: return "tan";
-  case FuncKind::Asin: return "asin";
-  case FuncKind::Acos: return "acos";
-  case FuncKind::Atan: return "atan";
-  case FuncKind::Atan2: return "atan2";
-  case FuncKind::Sinh: return "sinh";
-  case FuncKind::Cosh: return "cosh";
-  case FuncKind::Tanh: return "tanh";
-  default: return nullptr;
-  }
-}
-
 /// Emits the body of one chunk of a plan function into the current block.
 class ChunkEmitter {
 public:
@@ -209,7 +194,7 @@ private:
       break;
     case OpCode::Func2:
       switch (FuncKind(n.sub)) {
-      case FuncKind::Atan2: r = libm("atan2", {a, b}); break;
+      case FuncKind::Atan2: r = libm(cMathName(FuncKind::Atan2), {a, b}); break;
       case FuncKind::Min: r = b_.CreateSelect(b_.CreateFCmpOLT(a, b), a, b); break;
       case FuncKind::Max: r = b_.CreateSelect(b_.CreateFCmpOGT(a, b), a, b); break;
       case FuncKind::Mod:
@@ -284,10 +269,10 @@ private:
     case FuncKind::Asin:
     case FuncKind::Acos:
       check = b_.CreateFCmpOGT(intrinsic(llvm::Intrinsic::fabs, a), one());
-      return libm(libmName(f), {a});
-    default:
-      assert(libmName(f) && "unary built-in without lowering");
-      return libm(libmName(f), {a});
+      return libm(cMathName(f), {a});
+    default: // tan, atan, sinh, cosh, tanh: libm by name
+      assert(cMathName(f) && "unary built-in without lowering");
+      return libm(cMathName(f), {a});
     }
   }
 
