@@ -148,6 +148,13 @@ int main(int argc, char **argv) {
   simOpts.interval = opts.interval;
   simOpts.everyStep = opts.everyStep;
   simOpts.outputs = passOpts.outputs;
+  if (simOpts.outputs.empty()) {
+    // By default the model's own variables; derivatives only when asked.
+    const ldae_model &m = (*compiled)->model();
+    for (int i = 0; i < m.n_outputs; ++i)
+      if (std::string(m.output_names[i]).rfind("der(", 0) != 0)
+        simOpts.outputs.push_back(m.output_names[i]);
+  }
   simOpts.progress = !opts.noProgress && isatty(STDERR_FILENO);
   simOpts.log = &std::cerr;
   Expected<runtime::SimResult> result =
