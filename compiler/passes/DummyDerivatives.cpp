@@ -68,7 +68,7 @@ public:
   std::vector<std::vector<int>>
   choose(const std::vector<std::pair<int, int>> &topOverride, bool atStart);
   DummyChoice toChoice(const std::vector<std::vector<int>> &sel) const;
-  void findAmbiguous(const std::vector<int> &topSelection);
+  void findAmbiguous();
 
   int levels() const { return static_cast<int>(levels_.size()); }
   const Level &level(int l) const { return levels_[l - 1]; }
@@ -391,7 +391,7 @@ Selector::toChoice(const std::vector<std::vector<int>> &sel) const {
   return lowest;
 }
 
-void Selector::findAmbiguous(const std::vector<int> &topSelection) {
+void Selector::findAmbiguous() {
   if (levels_.empty())
     return;
   const Level &top = levels_.back();
@@ -481,7 +481,6 @@ void Selector::findAmbiguous(const std::vector<int> &topSelection) {
       amb.alternatives = allowed;
     else if (allowed.size() == 1)
       continue;
-    (void)topSelection;
     ambiguous.push_back(std::move(amb));
   }
 }
@@ -538,9 +537,9 @@ bool runDummyDerivatives(AnalysisState &s) {
     return false;
   }
   if (!sel.failure.empty())
-    s.diags.report(DiagId::WarningGeneric, s.model.loc,
-                   {"index reduction: " + sel.failure});
-  sel.findAmbiguous(first.back());
+    s.diags.report(DiagId::WarnDummySelectionAtStart, s.model.loc,
+                   {sel.failure});
+  sel.findAmbiguous();
   std::vector<std::vector<std::vector<int>>> selections{first};
   // Alternatives: one ambiguous block switched at a time.
   const Level &top = sel.level(sel.levels());
@@ -586,6 +585,30 @@ bool runDummyDerivatives(AnalysisState &s) {
       s.pivots.push_back(sel.pivot(choice.back(), size));
     }
     s.pivotSizes.push_back(size);
+  }
+
+  // The chosen set must be well conditioned at the start point.
+  if (s.pivotSizes[0] > 0) {
+    const unsigned m = s.pivotSizes[0];
+    Eigen::MatrixXd P(m, m);
+    ir::EvalEnv env = s.startEnv();
+    for (unsigned k = 0; k < m * m; ++k) {
+      auto v = ir::evaluate(s.pivots[0][k], env);
+      P(k % m, k / m) = v ? *v : std::numeric_limits<double>::quiet_NaN();
+    }
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(P);
+    const auto &sv = svd.singularValues();
+    double cond = P.allFinite() && sv(m - 1) > 0
+                      ? sv(0) / sv(m - 1)
+                      : std::numeric_limits<double>::infinity();
+    if (!(cond < 1e8)) {
+      std::vector<std::string> states;
+      for (size_t j = 0; j < s.unknowns.size(); ++j)
+        if (s.choices[0][j] > 1 && s.highest[j] > 0)
+          states.push_back(s.model.variables[s.unknowns[j]].name);
+      s.diags.report(DiagId::WarnStateSelectIllConditioned, s.model.loc,
+                     {quotedList(states), ir::printNumber(cond)});
+    }
   }
 
   // The result must need as many dummies as there were differentiations.

@@ -133,7 +133,6 @@ bool buildSystem(AnalysisState &s) {
     if (!raw && s.rows[i].next >= 0)
       sys.constraints.push_back(subst.apply(s.rows[i].residual));
   }
-  const size_t commonRows = common.size();
 
   for (size_t set = 0; set < nsets; ++set) {
     const DummyChoice &choice = s.choices[set];
@@ -183,7 +182,6 @@ bool buildSystem(AnalysisState &s) {
     s.result.stateSets.push_back(rep);
     sys.stateSets.push_back(std::move(st));
   }
-  (void)commonRows;
 
   // Differential unknowns are never fixed-free guesses for their
   // derivative; start derivatives stay 0 unless initialization finds more.
