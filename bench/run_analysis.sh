@@ -53,6 +53,7 @@ rows = "".join(
     for (fam, n), (s, eqs, idx, st) in sorted(best.items()))
 chain = best.get(("chain", 50000), (float("nan"),))[0]
 bodies = best.get(("bodies", 10000), (float("nan"),))[0]
+load = os.getloadavg()[0]
 section = f"""## Analysis
 
 `bench/analysis_bench.cpp`, run by `bench/run_analysis.sh` ({datetime.date.today()}, {platform.machine()}).
@@ -66,6 +67,9 @@ twice).
 | family | N | equations | index | states | seconds |
 |---|---:|---:|---:|---:|---:|
 {rows}
+Load average during the run: {load:.1f} on {os.cpu_count()} cores (the
+machine is shared; times on an idle machine are lower).
+
 Targets (under 2 s): 100,000-equation chain **{chain:.2f} s** ({"pass" if chain < 2 else "FAIL"}),
 10,000-body chain **{bodies:.2f} s** ({"pass" if bodies < 2 else "FAIL"}).
 

@@ -279,3 +279,38 @@ TEST(IndexReduction, StateSelectDecidesTies) {
   ASSERT_TRUE(run.ok) << run.messages;
   EXPECT_EQ(run.result.states, (std::vector<std::string>{"u", "x"}));
 }
+
+TEST(IndexReduction, TwoBodyRodChain) {
+  // Body 1 hangs from the origin, body 2 from body 1: two constraints, each
+  // differentiated twice; four states (two per body); index 3.
+  Builder b("Chain", "chain.lsd");
+  auto &c = b.ctx();
+  ir::ExprRef x1 = b.var("b1.x", 1), y1 = b.var("b1.y"), u1 = b.var("b1.u"),
+              v1 = b.var("b1.v"), l1 = b.var("r1.f");
+  ir::ExprRef x2 = b.var("b2.x", 2), y2 = b.var("b2.y"), u2 = b.var("b2.u"),
+              v2 = b.var("b2.v"), l2 = b.var("r2.f");
+  ir::ExprRef g = b.param("g", 9.81), two = c.constant(2);
+  ir::ExprRef dx2 = c.sub(x2, x1), dy2 = c.sub(y2, y1);
+  b.eq(c.add(c.pow(dx2, two), c.pow(dy2, two)), c.one(), "rod 2");
+  b.eq(b.der(x2), u2, "der(b2.x) = b2.u");
+  b.eq(b.der(y2), v2, "der(b2.y) = b2.v");
+  b.eq(b.der(u2), c.neg(c.mul(l2, dx2)), "b2 x force");
+  b.eq(b.der(v2), c.sub(c.neg(c.mul(l2, dy2)), g), "b2 y force");
+  b.eq(c.add(c.pow(x1, two), c.pow(y1, two)), c.one(), "rod 1");
+  b.eq(b.der(x1), u1, "der(b1.x) = b1.u");
+  b.eq(b.der(y1), v1, "der(b1.y) = b1.v");
+  b.eq(b.der(u1), c.add(c.neg(c.mul(l1, x1)), c.mul(l2, dx2)), "b1 x force");
+  b.eq(b.der(v1), c.sub(c.add(c.neg(c.mul(l1, y1)), c.mul(l2, dy2)), g),
+       "b1 y force");
+  Outcome run = analyze(b);
+  ASSERT_TRUE(run.ok) << run.messages;
+  const AnalysisResult &r = run.result;
+  EXPECT_EQ(r.structuralIndex, 3);
+  EXPECT_EQ(timesOf(r, "rod 1"), 2);
+  EXPECT_EQ(timesOf(r, "rod 2"), 2);
+  EXPECT_EQ(r.dof, 4);
+  EXPECT_EQ(r.dummies.size(), 8u);
+  ASSERT_TRUE(r.system);
+  for (const ir::StateSet &st : r.system->stateSets)
+    EXPECT_EQ(st.residuals.size(), r.system->unknowns.size());
+}
