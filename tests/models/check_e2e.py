@@ -190,6 +190,27 @@ def rc(ldaec):
     check(cur <= 1e-8 / R, "|i - V/R exp(-t/RC)| <= 1e-10 (max %.2e)" % cur)
 
 
+# 5. --method raw (the unreduced index-3 pendulum handed to IDA) at the
+# tolerance of case 1 fails: exit 3, a message naming the time and
+# pointing to --method dd, the rows before the failure kept.
+def raw(ldaec):
+    status, rows, err = run(ldaec, [
+        os.path.join(ROOT, "examples", "pendulum.lsd"), "--simulate",
+        "--method", "raw", "--param", "theta0=1.5", "--stop", "100",
+        "--interval", "0.1", "--rtol", "1e-9"], expect=3)
+    m = re.search(r"simulation failed at t = ([0-9.eE+-]+): (.*)", err)
+    check(m is not None, "stderr says 'simulation failed at t = <time>'")
+    if m:
+        t = float(m.group(1))
+        print("failure at t = %g: %s" % (t, m.group(2)))
+        check(0 < t < 100, "the failure time %g is inside (0, 100)" % t)
+        check(all(r["time"] <= t for r in rows),
+              "only rows before the failure are written (%d)" % len(rows))
+    check("try --method dd" in err, "the hint says 'try --method dd'")
+    check(len(rows) >= 1 and abs(rows[0]["x"] - math.sin(1.5)) < 1e-12,
+          "the consistent start row is kept")
+
+
 # 6. --emit c --main compiled with cc equals --simulate. The emitted main
 # keeps state set 0 (no switching, docs/embedding-c.md), so the model is
 # Robertson, where one set is enough.
@@ -231,7 +252,7 @@ def main():
     rest = sys.argv[3:]
     {"pendulum": pendulum, "robertson-sundials": robertson_sundials,
      "robertson-ref": robertson_ref, "pendulum-var": pendulum_var, "rc": rc,
-     "emit-c": emit_c}[case](ldaec, *rest)
+     "raw": raw, "emit-c": emit_c}[case](ldaec, *rest)
     finish()
 
 
