@@ -3,11 +3,12 @@
 # the emitted C and the interpreter against hand-written C; JIT compile time
 # for 10^3, 10^4, 10^5 equations) and writes the figures into
 # docs/benchmarks.md under "## Codegen".
-# Usage: bench/run_codegen.sh [build-dir]   (default: build)
+# Usage: bench/run_codegen.sh [build-dir]   (default: build; or set
+# CODEGEN_BENCH to the benchmark binary)
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
-bin=$build/bench/codegen_bench
+bin=${CODEGEN_BENCH:-$build/bench/codegen_bench}
 [ -x "$bin" ] || { echo "run_codegen.sh: $bin not built (ninja -C $build codegen_bench)" >&2; exit 2; }
 body=$("$bin")
 echo "$body"
@@ -17,7 +18,7 @@ path, body = sys.argv[1], sys.argv[2]
 section = (f"## Codegen\n\n`bench/codegen_bench.cpp`, run by `bench/run_codegen.sh` "
            f"({datetime.date.today()}, {platform.machine()}, load average "
            f"{open('/proc/loadavg').read().split()[0]} on {os.cpu_count()} cores: "
-           f"a shared machine, times are wall clock).\n\n{body}\n")
+           f"a shared machine: evaluation rates are best of 3, compile times are CPU seconds of the compiling thread).\n\n{body}\n")
 try:
     text = open(path).read()
 except FileNotFoundError:
