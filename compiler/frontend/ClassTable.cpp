@@ -277,11 +277,18 @@ static size_t editDistance(const std::string &a, const std::string &b) {
 std::string closestName(const std::string &name,
                         const std::vector<std::string> &candidates) {
   std::string best;
-  // One- and two-letter names are too short to guess from; three letters
-  // tolerate one edit; longer ones a third of their length (two at least,
-  // so a swapped pair of letters is found).
-  if (name.size() <= 2)
-    return "";
+  // One- and two-letter names only match a letter more or less ('RR' for
+  // 'R'), never a different letter ('y' is not a typo of 'B'); three
+  // letters tolerate one edit; longer ones a third of their length (two at
+  // least, so a swapped pair of letters is found).
+  if (name.size() <= 2) {
+    std::string best;
+    for (const std::string &c : candidates)
+      if (c != name && c.size() != name.size() && c.size() <= name.size() + 1 &&
+          editDistance(name, c) == 1 && (best.empty() || c < best))
+        best = c;
+    return best;
+  }
   size_t bestDist =
       (name.size() == 3 ? 1 : std::max<size_t>(2, name.size() / 3)) + 1;
   for (const std::string &c : candidates) {
