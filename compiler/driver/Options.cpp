@@ -31,6 +31,13 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_option("--atol", o.atol, "absolute tolerance (scaled by nominal)");
   app.add_option("--interval", o.interval, "output interval");
   app.add_flag("--every-step", o.everyStep, "output at every solver step");
+  app.add_option("--output-times", o.outputTimes,
+                 "output at exactly these increasing times instead of the "
+                 "interval grid: --output-times 0.4,4,40")
+      ->delimiter(',');
+  app.add_flag("--algebraic-error-test", o.algebraicErrorTest,
+               "keep algebraic unknowns in the solver's error test (small "
+               "algebraic values get relative accuracy of their own)");
   app.add_option("--method", o.method, "integration method")
       ->check(CLI::IsMember({"dd", "sga", "ode", "raw"}));
   app.add_option("--outputs", o.outputs,
@@ -43,6 +50,9 @@ void defineOptions(CLI::App &app, Options &o) {
       ->check(CLI::IsMember({"on", "off"}));
 
   app.add_flag("--time-passes", o.timePasses, "time every stage and pass");
+  app.add_flag("--compile-only", o.compileOnly,
+               "with --simulate: stop once the model is compiled and ready "
+               "to integrate (for timing the compiler)");
   app.add_option("--print-after", o.printAfter,
                  "print the model after the named pass (repeatable)");
 }

@@ -27,8 +27,11 @@ struct Options {
   std::string plotFile;                   // --plot out.svg|png
   bool stats = false;                     // --stats
   bool everyStep = false;                 // --every-step
+  std::vector<double> outputTimes;        // --output-times 0.4,4,40
+  bool algebraicErrorTest = false;        // --algebraic-error-test
   std::string jit = "on";                 // --jit on|off
   bool timePasses = false;                // --time-passes
+  bool compileOnly = false;               // --compile-only
   std::vector<std::string> printAfter;    // --print-after PASS
   bool noProgress = false;                // --no-progress
 };
