@@ -338,7 +338,7 @@ void printStats(const SimStats &st, std::ostream &out) {
       << fmt::format("state set switches          {}\n", st.stateSwitches)
       << fmt::format("roots found                 {}\n", st.rootsFound)
       << fmt::format("largest drift residual      {:.3g}\n", st.maxDrift)
-      << fmt::format("wall time                   {:.3f} s\n", st.wallTime);
+      << fmt::format("wall time                   {:.6f} s\n", st.wallTime);
 }
 
 } // namespace ldae::runtime
