@@ -13,5 +13,5 @@ ldaec="$build/compiler/driver/ldaec"
 /usr/bin/python3 "$root/bench/e2e_bench.py" "$ldaec"
 if [ "${WORK_PRECISION:-1}" = 1 ]; then
   /usr/bin/python3 "$root/bench/work_precision.py" --ldaec "$ldaec" \
-    --out "$root/docs"
+    --out "$root/docs" --methods dd,raw  # the driver runs sga, ode as dd
 fi
