@@ -33,7 +33,8 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_flag("--every-step", o.everyStep, "output at every solver step");
   app.add_option("--output-times", o.outputTimes,
                  "output at exactly these increasing times instead of the "
-                 "interval grid: --output-times 0.4,4,40")
+                 "interval grid; the last is the default stop time: "
+                 "--output-times 0.4,4,40")
       ->delimiter(',');
   app.add_flag("--algebraic-error-test", o.algebraicErrorTest,
                "keep algebraic unknowns in the solver's error test (small "

@@ -161,6 +161,8 @@ int main(int argc, char **argv) {
   simOpts.interval = opts.interval;
   simOpts.everyStep = opts.everyStep;
   simOpts.times = opts.outputTimes;
+  if (!opts.stopTime && !opts.outputTimes.empty())
+    simOpts.stop = opts.outputTimes.back(); // explicit times end the run
   simOpts.suppressAlgebraic = !opts.algebraicErrorTest;
   simOpts.outputs = passOpts.outputs;
   if (simOpts.outputs.empty()) {
