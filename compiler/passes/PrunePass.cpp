@@ -11,7 +11,10 @@
 namespace ldae::passes {
 
 bool runPrune(AnalysisState &s) {
-  if (!s.haveSystem || s.opts.outputs.empty() ||
+  // The unreduced system of --method raw is structurally singular (index
+  // above one): its matching leaves unknowns unmatched, so the walk below
+  // would drop the residuals that determine them. Compile it whole.
+  if (!s.haveSystem || s.opts.outputs.empty() || s.opts.method == "raw" ||
       s.systemMatchings.size() != s.system.stateSets.size())
     return true;
   ir::DaeSystem &sys = s.system;

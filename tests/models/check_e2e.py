@@ -192,12 +192,13 @@ def rc(ldaec):
 
 # 5. --method raw (the unreduced index-3 pendulum handed to IDA) at the
 # tolerance of case 1 fails: exit 3, a message naming the time and
-# pointing to --method dd, the rows before the failure kept.
+# pointing to --method dd, the rows before the failure kept. With
+# --outputs: pruning must keep the unreduced system whole.
 def raw(ldaec):
     status, rows, err = run(ldaec, [
         os.path.join(ROOT, "examples", "pendulum.lsd"), "--simulate",
         "--method", "raw", "--param", "theta0=1.5", "--stop", "100",
-        "--interval", "0.1", "--rtol", "1e-9"], expect=3)
+        "--interval", "0.1", "--rtol", "1e-9", "--outputs", "x,y"], expect=3)
     m = re.search(r"simulation failed at t = ([0-9.eE+-]+): (.*)", err)
     check(m is not None, "stderr says 'simulation failed at t = <time>'")
     if m:
