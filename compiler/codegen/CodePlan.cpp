@@ -447,21 +447,33 @@ std::vector<JacEntry> jacobianEntries(const ir::DaeSystem &sys,
                                       std::span<const ExprRef> rows,
                                       const KeyMap &keys,
                                       ir::Differentiator &diff) {
-  std::map<VarKey, std::vector<uint32_t>> keyRows;
-  for (uint32_t r = 0; r < rows.size(); ++r)
-    for (VarKey k : ir::freeVariables(rows[r]))
-      if (keys.count(k))
-        keyRows[k].push_back(r);
+  // The terms of each row that contain each key: a long sum (the ground
+  // node's current balance has a term per branch) is then differentiated
+  // term by term, not re-walked whole for every variable, which keeps the
+  // Jacobian linear in the model size.
+  std::map<std::pair<VarKey, uint32_t>, std::vector<ExprRef>> keyTerms;
+  for (uint32_t r = 0; r < rows.size(); ++r) {
+    std::span<const ExprRef> terms(&rows[r], 1);
+    if (rows[r]->kind() == ir::ExprKind::Add)
+      terms = rows[r]->operands();
+    for (ExprRef t : terms)
+      for (VarKey k : ir::freeVariables(t))
+        if (keys.count(k))
+          keyTerms[{k, r}].push_back(t);
+  }
   std::vector<JacEntry> entries;
-  for (auto &[k, rs] : keyRows) {
+  std::vector<ExprRef> parts;
+  for (auto &[keyRow, terms] : keyTerms) {
+    auto [k, r] = keyRow;
     Slot s = keys.at(k);
-    for (uint32_t r : rs) {
-      ExprRef d = diff.partial(rows[r], k);
-      if (d->isConstant(0.0))
-        continue;
-      entries.push_back({s.index, r, s.derivative ? nullptr : d,
-                         s.derivative ? d : nullptr});
-    }
+    parts.clear();
+    for (ExprRef t : terms)
+      parts.push_back(diff.partial(t, k));
+    ExprRef d = sys.ctx->add(parts);
+    if (d->isConstant(0.0))
+      continue;
+    entries.push_back({s.index, r, s.derivative ? nullptr : d,
+                       s.derivative ? d : nullptr});
   }
   std::sort(entries.begin(), entries.end(), [](auto &a, auto &b) {
     return std::tie(a.col, a.row) < std::tie(b.col, b.row);

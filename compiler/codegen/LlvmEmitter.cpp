@@ -417,10 +417,29 @@ void initializeLlvm() {
 
 Error toError(llvm::Error e) { return Error{llvm::toString(std::move(e))}; }
 
+/// Plans up to this many nodes get the full O2 pipeline and the optimizing
+/// instruction selector. Above it, compile time would dominate (LLVM's
+/// machine scheduler and SelectionDAG cost ~5 ms per RC-ladder element), so
+/// large models get the O1 IR pipeline and FastISel: about 10x faster to
+/// compile, still each shared node computed once (docs/codegen.md).
+constexpr size_t kFullOptimizationNodes = 5000;
+
+size_t planNodes(const CodePlan &plan) {
+  size_t n = 0;
+  for (const PlanFunction &fn : plan.functions)
+    n += fn.nodes.size();
+  return n;
+}
+
+bool fullOptimization(const CodePlan &plan) {
+  return planNodes(plan) <= kFullOptimizationNodes;
+}
+
 /// Host target machine and its builder.
 Expected<std::unique_ptr<llvm::TargetMachine>>
-hostMachine(llvm::orc::JITTargetMachineBuilder &jtmb) {
-  jtmb.setCodeGenOptLevel(llvm::CodeGenOptLevel::Default);
+hostMachine(llvm::orc::JITTargetMachineBuilder &jtmb, bool full) {
+  jtmb.setCodeGenOptLevel(full ? llvm::CodeGenOptLevel::Default
+                               : llvm::CodeGenOptLevel::None);
   auto tm = jtmb.createTargetMachine();
   if (!tm)
     return toError(tm.takeError());
@@ -447,7 +466,7 @@ std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
   return m;
 }
 
-void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm) {
+void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full) {
   llvm::LoopAnalysisManager lam;
   llvm::FunctionAnalysisManager fam;
   llvm::CGSCCAnalysisManager cgam;
@@ -459,7 +478,8 @@ void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm) {
   pb.registerLoopAnalyses(lam);
   pb.crossRegisterProxies(lam, fam, cgam, mam);
   llvm::ModulePassManager mpm =
-      pb.buildPerModuleDefaultPipeline(llvm::OptimizationLevel::O2);
+      pb.buildPerModuleDefaultPipeline(full ? llvm::OptimizationLevel::O2
+                                            : llvm::OptimizationLevel::O1);
   mpm.run(m, mam);
 }
 
@@ -468,7 +488,8 @@ Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan) {
   auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
   if (!jtmb)
     return toError(jtmb.takeError());
-  auto tm = hostMachine(*jtmb);
+  bool full = fullOptimization(plan);
+  auto tm = hostMachine(*jtmb, full);
   if (!tm)
     return Error{tm.error()};
 
@@ -476,7 +497,7 @@ Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan) {
   std::unique_ptr<llvm::Module> m = emitModule(plan, *ctx);
   m->setDataLayout((*tm)->createDataLayout());
   m->setTargetTriple((*tm)->getTargetTriple().str());
-  optimizeModule(*m, **tm);
+  optimizeModule(*m, **tm, full);
 
   auto jit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
   if (!jit)
@@ -508,10 +529,11 @@ std::string printModule(const CodePlan &plan) {
   llvm::LLVMContext ctx;
   std::unique_ptr<llvm::Module> m = emitModule(plan, ctx);
   if (auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost()) {
-    if (auto tm = hostMachine(*jtmb)) {
+    bool full = fullOptimization(plan);
+    if (auto tm = hostMachine(*jtmb, full)) {
       m->setDataLayout((*tm)->createDataLayout());
       m->setTargetTriple((*tm)->getTargetTriple().str());
-      optimizeModule(*m, **tm);
+      optimizeModule(*m, **tm, full);
     }
   } else {
     llvm::consumeError(jtmb.takeError());

@@ -27,7 +27,7 @@ std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
                                          llvm::LLVMContext &ctx);
 
 /// Runs the standard O2 pipeline for `tm` on `m`.
-void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm);
+void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full = true);
 
 /// Code compiled by the JIT, alive as long as this object.
 class JitCode {

@@ -16,6 +16,8 @@
 #include "ConsistentInit.h"
 #include "WongSequence.h"
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -54,8 +56,13 @@ bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
       M.col(j) = Fy.col(j) * d;
     }
   }
-  Eigen::VectorXd sv = M.jacobiSvd().singularValues();
-  return n == 0 || sv(n - 1) > 1e-12 * sv(0);
+  // A rank-revealing LU: an order of magnitude cheaper than an SVD, which
+  // dominated start-up for models of a few hundred unknowns.
+  if (n == 0)
+    return true;
+  Eigen::FullPivLU<MatrixXd> lu(M);
+  lu.setThreshold(1e-12);
+  return lu.rank() == n;
 }
 
 namespace {
