@@ -137,6 +137,12 @@ int main(int argc, char **argv) {
     passes::printAnalysis(analysis, std::cout);
     return 0;
   }
+  if (!model->whenClauses.empty()) {
+    // Events come with a later stage; say so rather than simulate silently
+    // without them.
+    diags.report(DiagId::WarnWhenNotSimulated, model->whenClauses[0].loc);
+    diags.flush(std::cerr);
+  }
   auto compileStart = std::chrono::steady_clock::now();
   Expected<std::unique_ptr<codegen::CompiledModel>> compiled =
       codegen::compile(*analysis.system, cgOpts);

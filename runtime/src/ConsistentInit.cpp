@@ -298,6 +298,8 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
   return out;
 }
 
+constexpr int kMaxMovesListed = 20;
+
 void reportMoves(const ModelEval &ev, const std::vector<double> &before,
                  const double *after, std::ostream *log) {
   if (!log)
@@ -311,11 +313,16 @@ void reportMoves(const ModelEval &ev, const std::vector<double> &before,
       continue;
     if (moved++ == 0)
       *log << "initialization moved:\n";
-    *log << fmt::format("  '{}' from {:.10g} to {:.10g} (by {:.3g})\n",
-                        ev.varName(i), before[i], after[i], d);
+    // A large model moves thousands of values; the first ones tell the
+    // story, the count tells the rest.
+    if (moved <= kMaxMovesListed)
+      *log << fmt::format("  '{}' from {:.10g} to {:.10g} (by {:.3g})\n",
+                          ev.varName(i), before[i], after[i], d);
   }
   if (moved == 0)
     *log << "initialization: the start values are consistent\n";
+  else if (moved > kMaxMovesListed)
+    *log << fmt::format("  ... and {} more\n", moved - kMaxMovesListed);
 }
 
 } // namespace ldae::runtime
