@@ -1,5 +1,6 @@
 // Class lookup and library loading; see ClassTable.h.
 #include "frontend/ClassTable.h"
+#include "support/EditDistance.h"
 #include "frontend/Parser.h"
 
 #include <algorithm>
@@ -258,20 +259,6 @@ void ClassTable::visibleNames(const ast::ClassDef *scope, uint32_t fileId,
       if (entry.path().extension() == ".lsd")
         out.push_back(entry.path().stem().string());
   }
-}
-
-static size_t editDistance(const std::string &a, const std::string &b) {
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j)
-    prev[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1,
-                         prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
 }
 
 std::string closestName(const std::string &name,

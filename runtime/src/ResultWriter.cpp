@@ -1,5 +1,6 @@
 // CSV output and column selection by name (see ResultWriter.h).
 #include "ResultWriter.h"
+#include "support/EditDistance.h"
 
 #include <algorithm>
 #include <fmt/format.h>
@@ -51,20 +52,6 @@ Expected<bool> writeCsv(const SimResult &result, const std::string &path) {
   if (!f)
     return Error{fmt::format("cannot write '{}'", path)};
   return true;
-}
-
-static size_t editDistance(const std::string &a, const std::string &b) {
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j)
-    prev[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min(
-          {prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
 }
 
 std::vector<std::string> closeNames(const std::vector<std::string> &available,
