@@ -22,6 +22,8 @@ import sys
 import tempfile
 import time
 
+from benchdoc import write_section
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOCS = os.path.join(ROOT, "docs")
 EXAMPLE = "/usr/share/doc/libsundials-dev/examples/ida/serial/idaRoberts_dns.c"
@@ -244,14 +246,7 @@ Work-precision charts (`bench/work_precision.py` on the real driver):
 ([table](work_precision_robertson.csv)).
 """
     doc = os.path.join(DOCS, "benchmarks.md")
-    text = open(doc).read() if os.path.exists(doc) else "# Benchmarks\n"
-    pattern = re.compile(r"^## End to end\n.*?(?=^## |\Z)", re.S | re.M)
-    if pattern.search(text):
-        text = pattern.sub(lambda m: section + "\n", text, count=1)
-    else:
-        text = text.rstrip() + "\n\n" + section
-    with open(doc, "w") as f:
-        f.write(text.rstrip() + "\n")
+    write_section(doc, "End to end", section)
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ $("$bin" chain 5000 chain 10000 chain 20000 chain 50000 \
 done
 echo "$runs"
 
-/usr/bin/python3 - "$root/docs" "$runs" <<'PY'
+LDAE_BENCH_DIR="$root/bench" /usr/bin/python3 - "$root/docs" "$runs" <<'PY'
 import re, sys, platform, datetime, os
 docs, runs = sys.argv[1], sys.argv[2]
 best = {}
@@ -76,15 +76,9 @@ Targets (under 2 s): 100,000-equation chain **{chain:.2f} s** ({"pass" if chain 
 ![analysis time against model size](analysis_scaling.png)
 """
 path = os.path.join(docs, "benchmarks.md")
-try:
-    text = open(path).read()
-except FileNotFoundError:
-    text = "# Benchmarks\n"
-pattern = re.compile(r"^## Analysis\n.*?(?=^## |\Z)", re.S | re.M)
-if pattern.search(text):
-    text = pattern.sub(lambda m: section + "\n", text)
-else:
-    text = text.rstrip("\n") + "\n\n" + section
-open(path, "w").write(text.rstrip("\n") + "\n")
+import os as _os, sys as _sys
+_sys.path.insert(0, _os.environ["LDAE_BENCH_DIR"])
+from benchdoc import write_section
+write_section(path, "Analysis", section)
 print(section)
 PY

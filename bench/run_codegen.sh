@@ -12,21 +12,15 @@ bin=${CODEGEN_BENCH:-$build/bench/codegen_bench}
 [ -x "$bin" ] || { echo "run_codegen.sh: $bin not built (ninja -C $build codegen_bench)" >&2; exit 2; }
 body=$("$bin")
 echo "$body"
-python3 - "$root/docs/benchmarks.md" "$body" <<'PY'
+LDAE_BENCH_DIR="$root/bench" python3 - "$root/docs/benchmarks.md" "$body" <<'PY'
 import datetime, os, platform, re, sys
 path, body = sys.argv[1], sys.argv[2]
 section = (f"## Codegen\n\n`bench/codegen_bench.cpp`, run by `bench/run_codegen.sh` "
            f"({datetime.date.today()}, {platform.machine()}, load average "
            f"{open('/proc/loadavg').read().split()[0]} on {os.cpu_count()} cores: "
            f"a shared machine: evaluation rates are best of 3, compile times are CPU seconds of the compiling thread).\n\n{body}\n")
-try:
-    text = open(path).read()
-except FileNotFoundError:
-    text = "# Benchmarks\n"
-pattern = re.compile(r"^## Codegen\n.*?(?=^## |\Z)", re.S | re.M)
-if pattern.search(text):
-    text = pattern.sub(lambda m: section + "\n", text)
-else:
-    text = text.rstrip("\n") + "\n\n" + section
-open(path, "w").write(text.rstrip("\n") + "\n")
+import os as _os, sys as _sys
+_sys.path.insert(0, _os.environ["LDAE_BENCH_DIR"])
+from benchdoc import write_section
+write_section(path, "Codegen", section)
 PY

@@ -13,7 +13,7 @@ table=$("$bin" "$reps")
 echo "$table"
 load=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null || echo "?")
 
-python3 - "$root/docs/benchmarks.md" "$table" "$load" <<'PY'
+LDAE_BENCH_DIR="$root/bench" python3 - "$root/docs/benchmarks.md" "$table" "$load" <<'PY'
 import datetime, platform, re, sys
 path, table, load = sys.argv[1], sys.argv[2], sys.argv[3]
 section = f"""## Frontend
@@ -30,14 +30,8 @@ model in at most 12x the time.
 
 {table.strip()}
 """
-try:
-    text = open(path).read()
-except FileNotFoundError:
-    text = "# Benchmarks\n"
-pattern = re.compile(r"## Frontend\n.*?(?=\n## |\Z)", re.S)
-if pattern.search(text):
-    text = pattern.sub(section.rstrip() + "\n", text)
-else:
-    text = text.rstrip() + "\n\n" + section
-open(path, "w").write(text)
+import os as _os, sys as _sys
+_sys.path.insert(0, _os.environ["LDAE_BENCH_DIR"])
+from benchdoc import write_section
+write_section(path, "Frontend", section)
 PY

@@ -22,7 +22,7 @@ done
 echo "1e5:"; echo "$small"
 echo "1e6:"; echo "$large"
 
-python3 - "$root/docs/benchmarks.md" "$small" "$large" <<'PY'
+LDAE_BENCH_DIR="$root/bench" python3 - "$root/docs/benchmarks.md" "$small" "$large" <<'PY'
 import os, re, sys, platform, datetime
 path, small, large = sys.argv[1], sys.argv[2], sys.argv[3]
 def parse(lines):
@@ -56,16 +56,10 @@ f"""| nodes made by d/dt | {int(s['ddt_nodes'])} | {int(l['ddt_nodes'])} | {l['d
 
 Linearity ({node_ratio:.1f}x the nodes may take at most {12*node_ratio/10:.1f}x the time): **{"pass" if ok else "FAIL"}**.
 """
-try:
-    text = open(path).read()
-except FileNotFoundError:
-    text = "# Benchmarks\n"
-pattern = re.compile(r"^## IR\n.*?(?=^## |\Z)", re.S | re.M)
-if pattern.search(text):
-    text = pattern.sub(lambda m: section + "\n", text)
-else:
-    text = text.rstrip("\n") + "\n\n" + section
-open(path, "w").write(text.rstrip("\n") + "\n")
+import os as _os, sys as _sys
+_sys.path.insert(0, _os.environ["LDAE_BENCH_DIR"])
+from benchdoc import write_section
+write_section(path, "IR", section)
 print(section)
 sys.exit(0 if ok else 1)
 PY

@@ -86,15 +86,10 @@ EOT
 )
 doc="$root/docs/benchmarks.md"
 [ -f "$doc" ] || printf '# Benchmarks\n' > "$doc"
-SECTION="$section" /usr/bin/python3 - "$doc" <<'PY'
+SECTION="$section" LDAE_BENCH_DIR="$root/bench" /usr/bin/python3 - "$doc" <<'PY'
 import os, re, sys
 path = sys.argv[1]
-text = open(path).read()
-section = os.environ["SECTION"].rstrip() + "\n"
-pattern = re.compile(r"^## Runtime\n.*?(?=^## |\Z)", re.S | re.M)
-if pattern.search(text):
-    text = pattern.sub(lambda m: section + "\n", text, count=1)
-else:
-    text = text.rstrip() + "\n\n" + section
-open(path, "w").write(text.rstrip() + "\n")
+sys.path.insert(0, os.environ["LDAE_BENCH_DIR"])
+from benchdoc import write_section
+write_section(path, "Runtime", os.environ["SECTION"])
 PY
