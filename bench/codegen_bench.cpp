@@ -200,7 +200,7 @@ int main(int argc, char **argv) {
   std::printf("\nJIT compile time of the chain (all functions of the model: "
               "residual, sparse\nJacobian, init, roots, outputs, drift; "
               "lowering includes symbolic differentiation):\n\n");
-  std::printf("| equations | plan nodes | lowering [CPU s] | LLVM O2 + codegen "
+  std::printf("| equations | plan nodes | lowering [CPU s] | LLVM opt + codegen "
               "[CPU s] | total [CPU s] | growth per 10x | wall [s] |\n"
               "|---|---|---|---|---|---|---|\n");
   for (size_t i = 0; i < compileRows.size(); ++i) {
