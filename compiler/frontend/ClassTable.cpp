@@ -174,12 +174,7 @@ LexicalHit ClassTable::lookup(const std::string &name,
 
 void ClassTable::reportOnce(DiagId id, SourceRange range,
                             std::vector<std::string> args) {
-  std::string key = std::to_string(static_cast<int>(id)) + ":" +
-                    std::to_string(range.begin.file) + ":" +
-                    std::to_string(range.begin.line) + ":" +
-                    std::to_string(range.begin.col);
-  for (const auto &a : args)
-    key += ":" + a;
+  std::string key = diagnosticKey(id, range, args);
   if (reported_.insert(key).second)
     diags_.report(id, range, std::move(args));
 }

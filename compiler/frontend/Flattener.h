@@ -148,6 +148,8 @@ public:
                                             const Scope &scope, Env *env);
   /// Suggestion text for an undefined name, "" if none is close.
   std::string suggest(const std::string &name, const Scope &scope, Env *env);
+  /// "undefined name" for the first part of `ref`, with a suggestion.
+  void reportUndefined(const ast::Expr &ref, const Scope &scope, Env *env);
 
   // ----- Instantiate.cpp
   bool ensureElaborated(InstNode &node, SourceLoc usedAt);

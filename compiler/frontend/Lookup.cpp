@@ -344,13 +344,7 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
                   {ref.refName()});
     return std::nullopt;
   }
-  std::string best = suggest(first, scope, env);
-  if (best.empty())
-    report(DiagId::ErrUndefinedName, SourceRange{ref.loc, ref.length},
-                  {first});
-  else
-    report(DiagId::ErrUndefinedNameSuggest,
-                  SourceRange{ref.loc, ref.length}, {first, best});
+  reportUndefined(ref, scope, env);
   return std::nullopt;
 }
 
@@ -363,14 +357,19 @@ Flattener::selectComponents(const ast::Expr &ref, const Scope &scope,
     if (it != scope.inst->memberIndex.end())
       return resolveInstancePath(ref, 0, it->second, scope, env);
   }
+  reportUndefined(ref, scope, env);
+  return std::nullopt;
+}
+
+void Flattener::reportUndefined(const ast::Expr &ref, const Scope &scope,
+                                Env *env) {
+  const std::string &first = ref.parts[0].name;
+  SourceRange range{ref.loc, ref.length};
   std::string best = suggest(first, scope, env);
   if (best.empty())
-    report(DiagId::ErrUndefinedName, SourceRange{ref.loc, ref.length},
-                  {first});
+    report(DiagId::ErrUndefinedName, range, {first});
   else
-    report(DiagId::ErrUndefinedNameSuggest,
-                  SourceRange{ref.loc, ref.length}, {first, best});
-  return std::nullopt;
+    report(DiagId::ErrUndefinedNameSuggest, range, {first, best});
 }
 
 std::string Flattener::suggest(const std::string &name, const Scope &scope,

@@ -51,12 +51,7 @@ const char *binOpText(ast::BinOp op) {
 
 Diagnostic &Flattener::report(DiagId id, SourceRange range,
                               std::vector<std::string> args) {
-  std::string key = std::to_string(static_cast<int>(id)) + ":" +
-                    std::to_string(range.begin.file) + ":" +
-                    std::to_string(range.begin.line) + ":" +
-                    std::to_string(range.begin.col);
-  for (const auto &a : args)
-    key += ":" + a;
+  std::string key = diagnosticKey(id, range, args);
   if (!reported_.insert(key).second) {
     dropped_ = Diagnostic{};
     return dropped_;

@@ -112,6 +112,17 @@ std::string DiagnosticEngine::render(const Diagnostic &d) const {
   return out;
 }
 
+std::string diagnosticKey(DiagId id, const SourceRange &range,
+                          const std::vector<std::string> &args) {
+  std::string key = std::to_string(static_cast<int>(id)) + ":" +
+                    std::to_string(range.begin.file) + ":" +
+                    std::to_string(range.begin.line) + ":" +
+                    std::to_string(range.begin.col);
+  for (const std::string &a : args)
+    key += ":" + a;
+  return key;
+}
+
 void DiagnosticEngine::flush(std::ostream &out) {
   for (; printed_ < diags_.size(); ++printed_)
     out << render(diags_[printed_]);

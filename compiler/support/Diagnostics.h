@@ -79,6 +79,11 @@ private:
   Diagnostic sink_; // receives reports past the error limit
 };
 
+/// Identifies a diagnostic by id, position and arguments, so a stage that
+/// reaches the same fault along several paths reports it once.
+std::string diagnosticKey(DiagId id, const SourceRange &range,
+                          const std::vector<std::string> &args);
+
 /// Quotes a user name for a message: 'x'.
 inline std::string quoted(const std::string &name) { return "'" + name + "'"; }
 
