@@ -38,6 +38,15 @@ static bool writeOutput(const std::string &path, const std::string &text) {
   return true;
 }
 
+/// Reports a stage's finished message through the diagnostics table and
+/// returns the exit code `rc` for the caller to pass on.
+static int reportError(DiagnosticEngine &diags, DiagId id,
+                       const std::string &message, int rc) {
+  diags.report(id, SourceLoc{}, {message});
+  diags.flush(std::cerr);
+  return rc;
+}
+
 int main(int argc, char **argv) {
   driver::Options opts;
   CLI::App app;
@@ -126,10 +135,8 @@ int main(int argc, char **argv) {
         opts.emit == "llvm"
             ? codegen::emitLlvm(*analysis.system, cgOpts)
             : codegen::emitC(*analysis.system, opts.emitMain, cgOpts);
-    if (!text) {
-      std::cerr << "ldaec: error: " << text.error() << "\n";
-      return 1;
-    }
+    if (!text)
+      return reportError(diags, DiagId::ErrCodegenFailed, text.error(), 1);
     return writeOutput(opts.outputFile, *text) ? 0 : 1;
   }
   if (!opts.simulate) {
@@ -146,10 +153,8 @@ int main(int argc, char **argv) {
   auto compileStart = std::chrono::steady_clock::now();
   Expected<std::unique_ptr<codegen::CompiledModel>> compiled =
       codegen::compile(*analysis.system, cgOpts);
-  if (!compiled) {
-    std::cerr << "ldaec: error: " << compiled.error() << "\n";
-    return 1;
-  }
+  if (!compiled)
+    return reportError(diags, DiagId::ErrCodegenFailed, compiled.error(), 1);
   double compileSeconds = std::chrono::duration<double>(
                               std::chrono::steady_clock::now() - compileStart)
                               .count();
@@ -182,26 +187,27 @@ int main(int argc, char **argv) {
   simOpts.log = &std::cerr;
   Expected<runtime::SimResult> result =
       runtime::simulate((*compiled)->model(), simOpts);
-  if (!result) {
-    std::cerr << "ldaec: error: " << result.error() << "\n";
-    return 2;
-  }
+  if (!result)
+    return reportError(diags, DiagId::ErrSimulationOptions, result.error(), 2);
   if (result->status != 0)
-    std::cerr << result->failure << "\n";
+    reportError(diags, DiagId::ErrSimulationFailed, result->failure, 3);
   Expected<bool> written = runtime::writeCsv(
       *result, opts.outputFile.empty() ? std::string("-") : opts.outputFile);
-  if (!written) {
-    std::cerr << "ldaec: error: " << written.error() << "\n";
-    return 1;
-  }
+  if (!written)
+    return reportError(diags, DiagId::ErrorGeneric, written.error(), 1);
+  int rc = result->status == 0 ? 0 : 3;
   if (!opts.plotFile.empty()) {
+    // The CSV is written either way; a plot asked for and not made is still
+    // an error.
     Expected<bool> plotted = runtime::plot(*result, opts.plotFile);
+    if (!plotted && rc == 0)
+      rc = 1;
     if (!plotted)
-      std::cerr << "ldaec: error: " << plotted.error() << "\n";
+      reportError(diags, DiagId::ErrPlotFailed, plotted.error(), rc);
   }
   if (opts.stats) {
     std::cerr << "compile time: " << compileSeconds << " s\n";
     runtime::printStats(result->stats, std::cerr);
   }
-  return result->status == 0 ? 0 : 3;
+  return rc;
 }
