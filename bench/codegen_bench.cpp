@@ -165,8 +165,11 @@ CompileRow measureCompile(unsigned n) {
     std::exit(1);
   }
   size_t nodes = 0;
-  for (const PlanFunction &f : plan->functions)
+  for (const PlanFunction &f : plan->functions) {
     nodes += f.nodes.size();
+    for (const PlanLoop &l : f.loops)
+      nodes += l.body.nodes.size();
+  }
   return {n, t1 - t0, t2 - t1, wall, nodes};
 }
 

@@ -55,8 +55,11 @@ const char *cCompare(CompareKind c) {
 /// Prints the statements of one chunk.
 class ChunkPrinter {
 public:
-  ChunkPrinter(std::ostream &os, const PlanFunction &fn, const PlanChunk &c)
-      : os_(os), fn_(fn), chunk_(c) {}
+  /// `inLoop`: `fn` is a loop body; load and store indices name the index
+  /// columns c0, c1, ... declared by the loop.
+  ChunkPrinter(std::ostream &os, const PlanFunction &fn, const PlanChunk &c,
+               bool inLoop = false)
+      : os_(os), fn_(fn), chunk_(c), inLoop_(inLoop) {}
 
   void print() {
     uint32_t next = chunk_.storeBegin;
@@ -79,10 +82,19 @@ public:
 
 private:
   void printStore(const PlanStore &s) {
-    os_ << "  out" << int(s.array) << "[" << s.index << "] = " << ref(s.node)
-        << ";\n";
-    if (fn_.nodes[s.node].mayFail)
-      os_ << "  if (!rc && " << err(s.node) << ") rc = " << s.row + 1 << ";\n";
+    os_ << "  out" << int(s.array) << "[" << index(s.index) << "] = "
+        << ref(s.node) << ";\n";
+    if (!fn_.nodes[s.node].mayFail)
+      return;
+    os_ << "  if (!rc && " << err(s.node) << ") rc = ";
+    if (inLoop_)
+      os_ << "(int)c" << s.row << " + 1;\n";
+    else
+      os_ << s.row + 1 << ";\n";
+  }
+
+  std::string index(int64_t i) const {
+    return (inLoop_ ? "c" : "") + std::to_string(i);
   }
 
   bool inChunk(uint32_t k) const {
@@ -92,9 +104,9 @@ private:
     const PlanNode &n = fn_.nodes[k];
     switch (n.op) {
     case OpCode::Const: return number(n.value);
-    case OpCode::LoadY: return "y[" + std::to_string(n.index) + "]";
-    case OpCode::LoadYp: return "yp[" + std::to_string(n.index) + "]";
-    case OpCode::LoadP: return "p[" + std::to_string(n.index) + "]";
+    case OpCode::LoadY: return "y[" + index(n.index) + "]";
+    case OpCode::LoadYp: return "yp[" + index(n.index) + "]";
+    case OpCode::LoadP: return "p[" + index(n.index) + "]";
     case OpCode::Time: return "t";
     case OpCode::Cj: return "cj";
     default:
@@ -209,6 +221,7 @@ private:
   std::ostream &os_;
   const PlanFunction &fn_;
   const PlanChunk &chunk_;
+  bool inLoop_;
 };
 
 const char *kChunkParams =
@@ -227,19 +240,59 @@ std::string exportedParams(FnSig sig) {
   return s + ")";
 }
 
+template <typename T, typename F>
+void printArray(std::ostream &os, const std::string &type,
+                const std::string &name, const std::vector<T> &values,
+                F format);
+
+/// A loop (PlanLoop) as a static function of the chunk signature, with its
+/// non-affine index columns as static tables.
+void printLoop(std::ostream &os, const std::string &sym, const PlanLoop &loop) {
+  for (size_t c = 0; c < loop.columns.size(); ++c)
+    if (!loop.columns[c].affine())
+      printArray(os, "int", sym + "_c" + std::to_string(c),
+                 loop.columns[c].table,
+                 [](int32_t v) { return std::to_string(v); });
+  os << "static int " << sym << kChunkParams << " {\n"
+     << "  int rc = 0;\n"
+     << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out0; "
+        "(void)out1; (void)tmp;\n"
+     << "  for (long i = 0; i < " << loop.count << "; ++i) {\n";
+  for (size_t c = 0; c < loop.columns.size(); ++c) {
+    const IndexColumn &col = loop.columns[c];
+    os << "  const long c" << c << " = ";
+    if (col.affine())
+      os << col.base << " + " << col.stride << " * i;\n";
+    else
+      os << sym << "_c" << c << "[i];\n";
+    os << "  (void)c" << c << ";\n";
+  }
+  ChunkPrinter(os, loop.body, loop.body.chunks[0], true).print();
+  os << "  }\n  return rc;\n}\n\n";
+}
+
 void printFunction(std::ostream &os, const CodePlan &plan,
                    const PlanFunction &fn) {
   std::string sym = functionSymbol(plan, fn);
-  bool single = fn.chunks.size() == 1;
-  if (!single)
-    for (size_t c = 0; c < fn.chunks.size(); ++c) {
-      os << "static int " << sym << "_chunk" << c << kChunkParams << " {\n"
+  bool single = fn.chunks.size() == 1 && fn.loops.empty();
+  // The straight-line chunks, then the loops: called in order while no
+  // error has been returned (as the LLVM emitter does).
+  std::vector<std::string> parts;
+  if (!single) {
+    for (size_t c = 0; !fn.stores.empty() && c < fn.chunks.size(); ++c) {
+      parts.push_back(sym + "_chunk" + std::to_string(c));
+      os << "static int " << parts.back() << kChunkParams << " {\n"
          << "  int rc = 0;\n"
          << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out0; "
             "(void)out1; (void)tmp;\n";
       ChunkPrinter(os, fn, fn.chunks[c]).print();
       os << "  return rc;\n}\n\n";
     }
+    for (size_t l = 0; l < fn.loops.size(); ++l) {
+      parts.push_back(sym + "_loop" + std::to_string(l));
+      printLoop(os, parts.back(), fn.loops[l]);
+    }
+  }
   os << "int " << sym << exportedParams(fn.sig) << " {\n";
   if (fn.sig != FnSig::Jacobian)
     os << "  const double cj = 0.0;\n";
@@ -263,10 +316,9 @@ void printFunction(std::ostream &os, const CodePlan &plan,
        << " * sizeof(double));\n  if (!tmp) return -1;\n";
   else
     os << "  double tmp[" << std::max(1u, fn.numSpillSlots) << "];\n";
-  for (size_t c = 0; c < fn.chunks.size(); ++c) {
-    os << "  " << (c ? "if (!rc) " : "") << "rc = " << sym << "_chunk" << c
+  for (size_t c = 0; c < parts.size(); ++c)
+    os << "  " << (c ? "if (!rc) " : "") << "rc = " << parts[c]
        << "(t, y, yp, p, cj, out0, out1, tmp);\n";
-  }
   if (heap)
     os << "  free(tmp);\n";
   os << "  return rc;\n}\n\n";

@@ -105,12 +105,27 @@ public:
 
   /// Lowers `e`; on failure records an error and returns node 0.
   uint32_t lower(ExprRef e) {
-    // Lower operands first, in topological order, so the recursion below
-    // stays shallow however deep the expression is.
-    if (!memo_.count(e))
-      for (ExprRef sub : ir::topologicalOrder(std::span<const ExprRef>(&e, 1)))
-        if (!memo_.count(sub))
-          memo_.emplace(sub, lowerNode(sub));
+    if (auto it = memo_.find(e); it != memo_.end())
+      return it->second;
+    // Lower operands first (post-order, not descending into what is already
+    // lowered), so the recursion in lowerNode stays shallow however deep
+    // the expression is, and each call costs only its new nodes.
+    std::vector<std::pair<ExprRef, unsigned>> stack = {{e, 0}};
+    while (!stack.empty()) {
+      auto &[x, next] = stack.back();
+      if (next < x->numOperands()) {
+        ExprRef operand = x->operand(next++);
+        if (!memo_.count(operand))
+          stack.push_back({operand, 0});
+        continue;
+      }
+      ExprRef done = x;
+      stack.pop_back();
+      if (!memo_.count(done)) {
+        uint32_t k = lowerNode(done);
+        memo_.emplace(done, k);
+      }
+    }
     return memo_.at(e);
   }
 
@@ -354,7 +369,8 @@ private:
   std::string error_;
 };
 
-/// Removes nodes no store reaches and renumbers the rest (order kept).
+} // namespace
+
 void removeDeadNodes(PlanFunction &fn) {
   std::vector<char> live(fn.nodes.size(), 0);
   for (const PlanStore &s : fn.stores)
@@ -382,6 +398,8 @@ void removeDeadNodes(PlanFunction &fn) {
   for (PlanStore &s : fn.stores)
     s.node = newIndex[s.node];
 }
+
+namespace {
 
 /// Cuts `fn` into chunks of at most `size` non-leaf nodes; values a later
 /// chunk reads get scratch slots.
@@ -450,30 +468,34 @@ std::vector<JacEntry> jacobianEntries(const ir::DaeSystem &sys,
   // The terms of each row that contain each key: a long sum (the ground
   // node's current balance has a term per branch) is then differentiated
   // term by term, not re-walked whole for every variable, which keeps the
-  // Jacobian linear in the model size.
-  std::map<std::pair<VarKey, uint32_t>, std::vector<ExprRef>> keyTerms;
+  // Jacobian linear in the model size. Keys are grouped per row by sorting
+  // the row's (key, term) pairs: no model-wide map.
+  std::vector<JacEntry> entries;
+  std::vector<std::pair<VarKey, ExprRef>> keyTerms;
+  std::vector<ExprRef> parts;
   for (uint32_t r = 0; r < rows.size(); ++r) {
     std::span<const ExprRef> terms(&rows[r], 1);
     if (rows[r]->kind() == ir::ExprKind::Add)
       terms = rows[r]->operands();
+    keyTerms.clear();
     for (ExprRef t : terms)
       for (VarKey k : ir::freeVariables(t))
         if (keys.count(k))
-          keyTerms[{k, r}].push_back(t);
-  }
-  std::vector<JacEntry> entries;
-  std::vector<ExprRef> parts;
-  for (auto &[keyRow, terms] : keyTerms) {
-    auto [k, r] = keyRow;
-    Slot s = keys.at(k);
-    parts.clear();
-    for (ExprRef t : terms)
-      parts.push_back(diff.partial(t, k));
-    ExprRef d = sys.ctx->add(parts);
-    if (d->isConstant(0.0))
-      continue;
-    entries.push_back({s.index, r, s.derivative ? nullptr : d,
-                       s.derivative ? d : nullptr});
+          keyTerms.push_back({k, t});
+    std::stable_sort(keyTerms.begin(), keyTerms.end(),
+                     [](auto &a, auto &b) { return a.first < b.first; });
+    for (size_t i = 0; i < keyTerms.size();) {
+      VarKey k = keyTerms[i].first;
+      parts.clear();
+      for (; i < keyTerms.size() && keyTerms[i].first == k; ++i)
+        parts.push_back(diff.partial(keyTerms[i].second, k));
+      ExprRef d = sys.ctx->add(parts);
+      if (d->isConstant(0.0))
+        continue;
+      Slot s = keys.at(k);
+      entries.push_back({s.index, r, s.derivative ? nullptr : d,
+                         s.derivative ? d : nullptr});
+    }
   }
   std::sort(entries.begin(), entries.end(), [](auto &a, auto &b) {
     return std::tie(a.col, a.row) < std::tie(b.col, b.row);
@@ -595,6 +617,8 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
     if (error.empty() && !b.error().empty())
       error = "in " + fn.name + ": " + b.error();
     removeDeadNodes(fn);
+    if (opts.loops)
+      rollLoops(fn);
     assignChunks(fn, opts.chunkSize);
     return int(plan.functions.size() - 1);
   };

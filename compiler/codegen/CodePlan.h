@@ -98,6 +98,8 @@ struct PlanChunk {
   uint32_t storeBegin = 0, storeEnd = 0;
 };
 
+struct PlanLoop;
+
 struct PlanFunction {
   std::string name; // symbol suffix: "residual_0", "jac_csc_1", "outputs"...
   FnSig sig = FnSig::Values;
@@ -110,6 +112,31 @@ struct PlanFunction {
   /// otherwise.
   std::vector<int32_t> spill;
   uint32_t numSpillSlots = 0;
+  /// Stores of one repeated shape, computed by loops after the straight-line
+  /// part above (see PlanLoop). Run only while no error has been returned.
+  std::vector<PlanLoop> loops;
+};
+
+/// An index that changes from one loop iteration to the next: base + i *
+/// stride, or table[i] when the instances are not evenly spaced.
+struct IndexColumn {
+  int64_t base = 0, stride = 0;
+  std::vector<int32_t> table; // empty: affine
+  bool affine() const { return table.empty(); }
+  int64_t at(uint32_t i) const {
+    return affine() ? base + int64_t(i) * stride : table[i];
+  }
+};
+
+/// `count` stores whose expressions have the same shape, computed by one
+/// loop (docs/codegen.md, "Loops"): iteration i evaluates `body`, a plan
+/// function of one chunk in which every LoadY/LoadYp/LoadP index and every
+/// store's index and row name a column, read at i. Compile time then
+/// depends on the number of shapes, not on the number of equations.
+struct PlanLoop {
+  uint32_t count = 0;
+  PlanFunction body;
+  std::vector<IndexColumn> columns;
 };
 
 struct StateSetPlan {
@@ -139,6 +166,9 @@ struct CodePlan {
 struct PlanOptions {
   /// Non-leaf nodes per chunk (machine function).
   unsigned chunkSize = 256;
+  /// Roll repeated stores into loops (functions with at least
+  /// kLoopMinStores stores; see rollLoops).
+  bool loops = true;
   /// Resolves residual locations to "file:line" (optional).
   const class ldae::SourceManager *sources = nullptr;
 };
@@ -148,6 +178,23 @@ struct PlanOptions {
 /// reads a variable that is not in the unknown layout.
 Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                                const PlanOptions &opts = {});
+
+/// Functions with fewer stores stay straight-line code (small models gain
+/// nothing from loops and read better unrolled).
+constexpr unsigned kLoopMinStores = 64;
+/// A shape becomes a loop when at least this many stores share it.
+constexpr unsigned kLoopMinCount = 8;
+/// Stores whose expression has more nodes than this stay straight-line
+/// (a loop recomputes subexpressions shared between its instances).
+constexpr unsigned kLoopMaxBody = 64;
+
+/// Moves the stores of `fn` that share an expression shape with at least
+/// kLoopMinCount others into loops; the rest stay straight-line. Runs
+/// before chunking; leaves `fn` without dead nodes.
+void rollLoops(PlanFunction &fn);
+
+/// Removes nodes no store reaches and renumbers the rest (order kept).
+void removeDeadNodes(PlanFunction &fn);
 
 /// Square-and-multiply schedule for x^k (k >= 1) that every backend follows
 /// so results agree bit for bit: see PowInt.

@@ -16,6 +16,7 @@ namespace {
 PlanOptions planOptions(const CodegenOptions &opts) {
   PlanOptions p;
   p.chunkSize = opts.chunkSize;
+  p.loops = opts.loops;
   p.sources = opts.sources;
   return p;
 }

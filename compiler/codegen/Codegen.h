@@ -21,6 +21,8 @@ struct CodegenOptions {
   bool jit = true;
   /// Non-leaf operations per machine function (bounds compile time).
   unsigned chunkSize = 256;
+  /// Compile repeated equations as loops (CodePlan.h, rollLoops).
+  bool loops = true;
   /// Resolves residual locations for ldae_model::residual_origin.
   const SourceManager *sources = nullptr;
 };

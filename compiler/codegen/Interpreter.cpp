@@ -5,6 +5,7 @@
 
 #include "ir/Evaluate.h"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -96,18 +97,13 @@ bool domainError(const PlanNode &n, double a, double b) {
   }
 }
 
-} // namespace
-
-int interpret(const PlanFunction &fn, double t, const double *y,
-              const double *yp, const double *p, double cj, double *out0,
-              double *out1) {
-  thread_local std::vector<double> v;
-  thread_local std::vector<uint8_t> err;
+/// Evaluates the nodes of `fn` into v and err. In a loop body `columns`
+/// holds the iteration's index columns, which load indices name.
+void evaluateNodes(const PlanFunction &fn, double t, const double *y,
+                   const double *yp, const double *p, double cj,
+                   const int64_t *columns, double *v, uint8_t *err) {
+  auto slot = [&](int32_t i) { return columns ? columns[i] : int64_t(i); };
   const size_t size = fn.nodes.size();
-  if (v.size() < size) {
-    v.resize(size);
-    err.resize(size);
-  }
   for (size_t k = 0; k < size; ++k) {
     const PlanNode &n = fn.nodes[k];
     double a = 0, b = 0, r = 0;
@@ -117,9 +113,9 @@ int interpret(const PlanFunction &fn, double t, const double *y,
     }
     switch (n.op) {
     case OpCode::Const: r = n.value; break;
-    case OpCode::LoadY: r = y[n.index]; break;
-    case OpCode::LoadYp: r = yp[n.index]; break;
-    case OpCode::LoadP: r = p[n.index]; break;
+    case OpCode::LoadY: r = y[slot(n.index)]; break;
+    case OpCode::LoadYp: r = yp[slot(n.index)]; break;
+    case OpCode::LoadP: r = p[slot(n.index)]; break;
     case OpCode::Time: r = t; break;
     case OpCode::Cj: r = cj; break;
     case OpCode::Add: r = a + b; break;
@@ -157,14 +153,54 @@ int interpret(const PlanFunction &fn, double t, const double *y,
       err[k] = 0;
     }
   }
+}
+
+/// Writes the stores of `fn`; returns `rc`, or 1 + the row of the first
+/// failing store when `rc` is 0.
+int storeValues(const PlanFunction &fn, const int64_t *columns,
+                const double *v, const uint8_t *err, double *out0,
+                double *out1, int rc) {
+  auto slot = [&](uint32_t i) { return columns ? columns[i] : int64_t(i); };
+  for (const PlanStore &s : fn.stores) {
+    (s.array ? out1 : out0)[slot(s.index)] = v[s.node];
+    if (!rc && err[s.node])
+      rc = 1 + int(slot(s.row));
+  }
+  return rc;
+}
+
+} // namespace
+
+int interpret(const PlanFunction &fn, double t, const double *y,
+              const double *yp, const double *p, double cj, double *out0,
+              double *out1) {
+  thread_local std::vector<double> v;
+  thread_local std::vector<uint8_t> err;
+  thread_local std::vector<int64_t> columns;
+  size_t size = fn.nodes.size();
+  for (const PlanLoop &l : fn.loops)
+    size = std::max(size, l.body.nodes.size());
+  if (v.size() < size) {
+    v.resize(size);
+    err.resize(size);
+  }
+  evaluateNodes(fn, t, y, yp, p, cj, nullptr, v.data(), err.data());
   for (unsigned i = 0; i < 2; ++i)
     if (double *out = i ? out1 : out0)
       std::fill(out, out + fn.zeroFill[i], 0.0);
-  int rc = 0;
-  for (const PlanStore &s : fn.stores) {
-    (s.array ? out1 : out0)[s.index] = v[s.node];
-    if (!rc && err[s.node])
-      rc = 1 + int(s.row);
+  int rc = storeValues(fn, nullptr, v.data(), err.data(), out0, out1, 0);
+  for (const PlanLoop &l : fn.loops) {
+    if (rc)
+      break; // as the compiled code: loops run while no error was returned
+    columns.resize(l.columns.size());
+    for (uint32_t i = 0; i < l.count; ++i) {
+      for (size_t c = 0; c < l.columns.size(); ++c)
+        columns[c] = l.columns[c].at(i);
+      evaluateNodes(l.body, t, y, yp, p, cj, columns.data(), v.data(),
+                    err.data());
+      rc = storeValues(l.body, columns.data(), v.data(), err.data(), out0,
+                       out1, rc);
+    }
   }
   return rc;
 }

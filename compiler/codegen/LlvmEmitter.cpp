@@ -48,15 +48,20 @@ public:
     llvm::Value *t, *y, *yp, *p, *cj, *out0, *out1, *tmp;
   };
 
+  /// `columns` (a loop body's): the i64 value of each index column in the
+  /// current iteration; load and store indices then name columns. `rcIn`:
+  /// the return code so far (0 when null).
   ChunkEmitter(llvm::IRBuilder<> &b, llvm::Module &m, const PlanFunction &fn,
-               const PlanChunk &chunk, Args args)
-      : b_(b), m_(m), fn_(fn), chunk_(chunk), args_(args),
-        dbl_(b.getDoubleTy()), val_(fn.nodes.size(), nullptr),
+               const PlanChunk &chunk, Args args,
+               const std::vector<llvm::Value *> *columns = nullptr,
+               llvm::Value *rcIn = nullptr)
+      : b_(b), m_(m), fn_(fn), chunk_(chunk), args_(args), columns_(columns),
+        rcIn_(rcIn), dbl_(b.getDoubleTy()), val_(fn.nodes.size(), nullptr),
         err_(fn.nodes.size(), nullptr) {}
 
   /// Emits nodes and stores; returns the i32 return code.
   llvm::Value *emit() {
-    rc_ = b_.getInt32(0);
+    rc_ = rcIn_ ? rcIn_ : b_.getInt32(0);
     uint32_t next = chunk_.storeBegin;
     for (uint32_t k = chunk_.nodeBegin; k < chunk_.nodeEnd; ++k) {
       const PlanNode &n = fn_.nodes[k];
@@ -82,13 +87,24 @@ private:
   /// unless an earlier store already failed.
   void store(const PlanStore &s) {
     llvm::Value *out = s.array ? args_.out1 : args_.out0;
-    b_.CreateStore(value(s.node),
-                   b_.CreateConstInBoundsGEP1_64(dbl_, out, s.index));
+    b_.CreateStore(value(s.node), address(out, s.index));
     if (fn_.nodes[s.node].mayFail) {
       llvm::Value *first =
           b_.CreateAnd(b_.CreateICmpEQ(rc_, b_.getInt32(0)), error(s.node));
-      rc_ = b_.CreateSelect(first, b_.getInt32(s.row + 1), rc_);
+      llvm::Value *row =
+          columns_ ? b_.CreateAdd(b_.CreateTrunc((*columns_)[s.row],
+                                                 b_.getInt32Ty()),
+                                  b_.getInt32(1))
+                   : b_.getInt32(s.row + 1);
+      rc_ = b_.CreateSelect(first, row, rc_);
     }
+  }
+
+  /// &base[index]; in a loop body `index` names a column.
+  llvm::Value *address(llvm::Value *base, int64_t index) {
+    if (columns_)
+      return b_.CreateInBoundsGEP(dbl_, base, (*columns_)[index]);
+    return b_.CreateConstInBoundsGEP1_64(dbl_, base, index);
   }
 
   bool inChunk(uint32_t k) const {
@@ -100,8 +116,7 @@ private:
   /// Inputs never change during a call: invariant, dereferenceable loads
   /// need no ordering against stores (keeps instruction scheduling cheap).
   llvm::Value *load(llvm::Value *base, int64_t i) {
-    llvm::LoadInst *l =
-        b_.CreateLoad(dbl_, b_.CreateConstInBoundsGEP1_64(dbl_, base, i));
+    llvm::LoadInst *l = b_.CreateLoad(dbl_, address(base, i));
     l->setMetadata(llvm::LLVMContext::MD_invariant_load,
                    llvm::MDNode::get(b_.getContext(), {}));
     return l;
@@ -281,6 +296,8 @@ private:
   const PlanFunction &fn_;
   const PlanChunk &chunk_;
   Args args_;
+  const std::vector<llvm::Value *> *columns_;
+  llvm::Value *rcIn_;
   llvm::Type *dbl_;
   std::vector<llvm::Value *> val_, err_;
   llvm::Value *rc_ = nullptr;
@@ -303,6 +320,53 @@ void setPointerAttributes(const CodePlan &plan, llvm::Function *f,
     f->addParamAttr(i, llvm::Attribute::NoAlias);
     f->addParamAttr(i, llvm::Attribute::NoCapture);
   }
+}
+
+/// Emits the body of `lf` (a part signature, tmp unused): for i in
+/// [0, count) compute the index columns, then the loop body's nodes and
+/// store; the return code is carried through the iterations.
+void emitLoop(llvm::Module &m, const PlanLoop &loop, llvm::Function *lf) {
+  llvm::LLVMContext &ctx = m.getContext();
+  llvm::IRBuilder<> b(llvm::BasicBlock::Create(ctx, "entry", lf));
+  auto *header = llvm::BasicBlock::Create(ctx, "loop", lf);
+  auto *exit = llvm::BasicBlock::Create(ctx, "exit", lf);
+  llvm::Type *i64 = b.getInt64Ty(), *i32 = b.getInt32Ty();
+  llvm::BasicBlock *entry = b.GetInsertBlock();
+  b.CreateBr(header);
+  b.SetInsertPoint(header);
+  llvm::PHINode *i = b.CreatePHI(i64, 2, "i");
+  llvm::PHINode *rcIn = b.CreatePHI(i32, 2, "rc");
+  std::vector<llvm::Value *> columns;
+  for (size_t c = 0; c < loop.columns.size(); ++c) {
+    const IndexColumn &col = loop.columns[c];
+    if (col.affine()) {
+      columns.push_back(b.CreateAdd(
+          b.getInt64(col.base), b.CreateMul(i, b.getInt64(col.stride), "", false, true),
+          "", false, true));
+      continue;
+    }
+    auto *data = llvm::ConstantDataArray::get(ctx, llvm::ArrayRef<int32_t>(col.table));
+    auto *table = new llvm::GlobalVariable(
+        m, data->getType(), true, llvm::GlobalValue::PrivateLinkage, data,
+        lf->getName() + ".col" + std::to_string(c));
+    llvm::Value *at = b.CreateLoad(
+        i32, b.CreateInBoundsGEP(data->getType(), table, {b.getInt64(0), i}));
+    columns.push_back(b.CreateSExt(at, i64));
+  }
+  ChunkEmitter::Args args{lf->getArg(0), lf->getArg(1), lf->getArg(2),
+                          lf->getArg(3), lf->getArg(4), lf->getArg(5),
+                          lf->getArg(6), nullptr};
+  llvm::Value *rcOut = ChunkEmitter(b, m, loop.body, loop.body.chunks[0], args,
+                                    &columns, rcIn)
+                           .emit();
+  llvm::Value *next = b.CreateAdd(i, b.getInt64(1), "", true, true);
+  i->addIncoming(b.getInt64(0), entry);
+  i->addIncoming(next, b.GetInsertBlock());
+  rcIn->addIncoming(b.getInt32(0), entry);
+  rcIn->addIncoming(rcOut, b.GetInsertBlock());
+  b.CreateCondBr(b.CreateICmpULT(next, b.getInt64(loop.count)), header, exit);
+  b.SetInsertPoint(exit);
+  b.CreateRet(rcOut);
 }
 
 /// Emits one plan function with its exported C ABI signature.
@@ -348,7 +412,7 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
       b.CreateMemSet(i ? args.out1 : args.out0, b.getInt8(0),
                      uint64_t(fn.zeroFill[i]) * 8, llvm::MaybeAlign(8));
 
-  if (fn.chunks.size() == 1) {
+  if (fn.chunks.size() == 1 && fn.loops.empty()) {
     args.tmp = nullPtr;
     b.CreateRet(ChunkEmitter(b, m, fn, fn.chunks[0], args).emit());
     return;
@@ -358,44 +422,62 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
   uint64_t bytes = uint64_t(fn.numSpillSlots) * 8;
   bool heap = bytes > kMaxStackScratch;
   llvm::FunctionCallee mallocFn, freeFn;
-  llvm::Value *tmp;
+  llvm::Value *tmp = nullPtr;
   if (heap) {
     mallocFn = m.getOrInsertFunction("malloc", ptr, b.getInt64Ty());
     freeFn = m.getOrInsertFunction("free", b.getVoidTy(), ptr);
     tmp = b.CreateCall(mallocFn, {b.getInt64(bytes)});
-  } else {
+  } else if (fn.chunks.size() > 1) {
     tmp = b.CreateAlloca(dbl, b.getInt64(std::max<uint64_t>(1, fn.numSpillSlots)));
   }
-  auto *chunkTy = llvm::FunctionType::get(
+  auto *partTy = llvm::FunctionType::get(
       i32, {dbl, ptr, ptr, ptr, dbl, ptr, ptr, ptr}, false);
-  auto *done = llvm::BasicBlock::Create(ctx, "done", f);
-  llvm::IRBuilder<> db(done);
-  auto *rcPhi = db.CreatePHI(i32, fn.chunks.size());
-  if (heap)
-    db.CreateCall(freeFn, {tmp});
-  db.CreateRet(rcPhi);
-
-  for (size_t c = 0; c < fn.chunks.size(); ++c) {
-    auto *cf = llvm::Function::Create(
-        chunkTy, llvm::Function::InternalLinkage,
-        functionSymbol(plan, fn) + ".chunk" + std::to_string(c), m);
-    cf->addFnAttr(llvm::Attribute::NoInline);
-    cf->addFnAttr(llvm::Attribute::NoUnwind);
-    setPointerAttributes(plan, cf, {1, 2, 3}, {5, 6, 7});
+  auto newPart = [&](const std::string &suffix) {
+    auto *pf = llvm::Function::Create(partTy, llvm::Function::InternalLinkage,
+                                      functionSymbol(plan, fn) + suffix, m);
+    pf->addFnAttr(llvm::Attribute::NoInline);
+    pf->addFnAttr(llvm::Attribute::NoUnwind);
+    setPointerAttributes(plan, pf, {1, 2, 3}, {5, 6, 7});
+    return pf;
+  };
+  // The straight-line chunks, then the loops: each a non-inlined function,
+  // called in order while no error has been returned.
+  std::vector<llvm::Function *> parts;
+  bool straight = !fn.stores.empty();
+  for (size_t c = 0; straight && c < fn.chunks.size(); ++c) {
+    llvm::Function *cf = newPart(".chunk" + std::to_string(c));
     llvm::IRBuilder<> cb(llvm::BasicBlock::Create(ctx, "entry", cf));
     ChunkEmitter::Args ca{cf->getArg(0), cf->getArg(1), cf->getArg(2),
                           cf->getArg(3), cf->getArg(4), cf->getArg(5),
                           cf->getArg(6), cf->getArg(7)};
     cb.CreateRet(ChunkEmitter(cb, m, fn, fn.chunks[c], ca).emit());
+    parts.push_back(cf);
+  }
+  for (size_t l = 0; l < fn.loops.size(); ++l) {
+    llvm::Function *lf = newPart(".loop" + std::to_string(l));
+    emitLoop(m, fn.loops[l], lf);
+    parts.push_back(lf);
+  }
 
+  auto *done = llvm::BasicBlock::Create(ctx, "done", f);
+  llvm::IRBuilder<> db(done);
+  auto *rcPhi = db.CreatePHI(i32, std::max<size_t>(1, parts.size()));
+  if (heap)
+    db.CreateCall(freeFn, {tmp});
+  db.CreateRet(rcPhi);
+  if (parts.empty()) {
+    rcPhi->addIncoming(b.getInt32(0), b.GetInsertBlock());
+    b.CreateBr(done);
+  }
+  for (size_t c = 0; c < parts.size(); ++c) {
     llvm::Value *rc = b.CreateCall(
-        cf, {args.t, args.y, args.yp, args.p, args.cj, args.out0, args.out1, tmp});
-    if (c + 1 == fn.chunks.size()) {
-      rcPhi->addIncoming(rc, b.GetInsertBlock());
+        parts[c], {args.t, args.y, args.yp, args.p, args.cj, args.out0,
+                   args.out1, tmp});
+    rcPhi->addIncoming(rc, b.GetInsertBlock());
+    if (c + 1 == parts.size()) {
       b.CreateBr(done);
     } else {
       auto *cont = llvm::BasicBlock::Create(ctx, "cont", f, done);
-      rcPhi->addIncoming(rc, b.GetInsertBlock());
       b.CreateCondBr(b.CreateICmpEQ(rc, b.getInt32(0)), cont, done);
       b.SetInsertPoint(cont);
     }
@@ -426,8 +508,11 @@ constexpr size_t kFullOptimizationNodes = 5000;
 
 size_t planNodes(const CodePlan &plan) {
   size_t n = 0;
-  for (const PlanFunction &fn : plan.functions)
+  for (const PlanFunction &fn : plan.functions) {
     n += fn.nodes.size();
+    for (const PlanLoop &l : fn.loops)
+      n += l.body.nodes.size();
+  }
   return n;
 }
 

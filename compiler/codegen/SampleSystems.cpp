@@ -147,14 +147,20 @@ SampleSystem pendulum() {
   return b.take();
 }
 
-SampleSystem chain(unsigned n) {
-  Builder b("chain" + std::to_string(n));
+namespace {
+
+/// chain(n); `shuffle` declares the unknowns in a scrambled order.
+SampleSystem makeChain(unsigned n, bool shuffle) {
+  Builder b((shuffle ? "shuffled_chain" : "chain") + std::to_string(n));
   auto &c = b.c();
   ExprRef k = b.param("k", 1.5), a = b.param("a", 0.1);
-  std::vector<ExprRef> x;
-  for (unsigned i = 0; i < n; ++i)
-    x.push_back(b.state("x[" + std::to_string(i + 1) + "]", true,
-                        std::sin(double(i))));
+  std::vector<ExprRef> x(n);
+  for (unsigned j = 0; j < n; ++j) {
+    // i -> 7i + 3 mod n is a permutation when gcd(7, n) = 1.
+    unsigned i = shuffle && n % 7 ? (7 * j + 3) % n : j;
+    x[i] = b.state("x[" + std::to_string(i + 1) + "]", true,
+                   std::sin(double(i)));
+  }
   std::vector<ExprRef> res;
   for (unsigned i = 0; i < n; ++i) {
     ExprRef lap = c.mul(c.constant(-2), x[i]);
@@ -168,8 +174,26 @@ SampleSystem chain(unsigned n) {
     res.push_back(c.sub(b.der(x[i]), rhs));
   }
   b.singleSet(res);
-  b.output(b.sys().unknowns.front().name, x.front());
-  b.output(b.sys().unknowns.back().name, x.back());
+  b.output("x[1]", x.front());
+  b.output("x[" + std::to_string(n) + "]", x.back());
+  return b.take();
+}
+
+} // namespace
+
+SampleSystem chain(unsigned n) { return makeChain(n, false); }
+
+SampleSystem shuffledChain(unsigned n) { return makeChain(n, true); }
+
+SampleSystem logChain(unsigned n) {
+  Builder b("log_chain" + std::to_string(n));
+  auto &c = b.c();
+  std::vector<ExprRef> res;
+  for (unsigned i = 0; i < n; ++i) {
+    ExprRef x = b.state("x[" + std::to_string(i + 1) + "]", false, std::exp(1));
+    res.push_back(c.sub(c.call(FuncKind::Log, x), c.constant(1)));
+  }
+  b.singleSet(res);
   return b.take();
 }
 

@@ -28,6 +28,14 @@ SampleSystem pendulum();
 /// der(x[i]) = k*(x[i-1] - 2*x[i] + x[i+1]) - a*x[i]^3 (+ sin(t) at i = 0).
 SampleSystem chain(unsigned n);
 
+/// chain(n) with its unknowns laid out in a shuffled order, so that loops
+/// over its equations read their slots from index tables, not strides.
+SampleSystem shuffledChain(unsigned n);
+
+/// n algebraic unknowns with residuals log(x[i]) - 1: one loop whose
+/// iterations hit a domain error where x[i] <= 0.
+SampleSystem logChain(unsigned n);
+
 /// Every built-in of the language applied to unknowns u, v (differential)
 /// in residuals z[i] - f_i(u, v) and in outputs.
 SampleSystem builtins();

@@ -212,6 +212,10 @@ const ModelCase kCases[] = {
     {"builtins_chunked", samples::builtins, 0.1, 0.9, 5},
     {"chain40", [] { return samples::chain(40); }, -1.0, 1.0, 2000},
     {"chain40_chunked", [] { return samples::chain(40); }, -1.0, 1.0, 16},
+    // Large enough to be compiled as loops (kLoopMinStores).
+    {"chain120_loops", [] { return samples::chain(120); }, -1.0, 1.0, 2000},
+    {"shuffled_chain120_loops", [] { return samples::shuffledChain(120); },
+     -1.0, 1.0, 16},
 };
 
 INSTANTIATE_TEST_SUITE_P(Models, Backends, ::testing::ValuesIn(kCases),
