@@ -68,7 +68,12 @@ struct Slot {
   uint32_t index;
   bool derivative;
 };
-using KeyMap = std::map<VarKey, Slot>;
+struct VarKeyHash {
+  size_t operator()(VarKey k) const {
+    return std::hash<uint64_t>()(uint64_t(k.var) << 8 ^ k.order);
+  }
+};
+using KeyMap = std::unordered_map<VarKey, Slot, VarKeyHash>;
 
 /// The layout rule: slot i's key reads y[i]; the next order of a
 /// differential unknown reads yp[i] (a slot's own key wins a clash).
@@ -79,6 +84,7 @@ KeyMap buildKeyMap(const ir::DaeSystem &sys, const std::vector<bool> &diff,
     return slotKeys.empty() ? sys.unknowns[i].key : slotKeys[i];
   };
   KeyMap m;
+  m.reserve(2 * sys.unknowns.size());
   for (uint32_t i = 0; i < sys.unknowns.size(); ++i)
     m.emplace(key(i), Slot{i, false});
   for (uint32_t i = 0; i < sys.unknowns.size(); ++i)
@@ -109,8 +115,12 @@ public:
       return it->second;
     // Lower operands first (post-order, not descending into what is already
     // lowered), so the recursion in lowerNode stays shallow however deep
-    // the expression is, and each call costs only its new nodes.
-    std::vector<std::pair<ExprRef, unsigned>> stack = {{e, 0}};
+    // the expression is, and each call costs only its new nodes. lowerNode
+    // may call back here (for operands of operands): those calls get a
+    // stack of their own.
+    std::vector<std::pair<ExprRef, unsigned>> local;
+    auto &stack = depth_++ == 0 ? stack_ : local;
+    stack.assign(1, {e, 0});
     while (!stack.empty()) {
       auto &[x, next] = stack.back();
       if (next < x->numOperands()) {
@@ -126,6 +136,7 @@ public:
         memo_.emplace(done, k);
       }
     }
+    --depth_;
     return memo_.at(e);
   }
 
@@ -364,6 +375,8 @@ private:
   const ir::DaeSystem &sys_;
   unsigned nParams_;
   std::unordered_map<ExprRef, uint32_t> memo_;
+  std::vector<std::pair<ExprRef, unsigned>> stack_;
+  unsigned depth_ = 0;
   std::map<double, uint32_t> consts_;
   int64_t cj_ = -1;
   std::string error_;
