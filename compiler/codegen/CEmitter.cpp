@@ -57,9 +57,11 @@ class ChunkPrinter {
 public:
   /// `inLoop`: `fn` is a loop body; load and store indices name the index
   /// columns c0, c1, ... declared by the loop.
+  /// `sym`: the plan function's symbol, whose `<sym>_reduce<k>` functions
+  /// Reduce nodes call.
   ChunkPrinter(std::ostream &os, const PlanFunction &fn, const PlanChunk &c,
-               bool inLoop = false)
-      : os_(os), fn_(fn), chunk_(c), inLoop_(inLoop) {}
+               std::string sym, bool inLoop = false)
+      : os_(os), fn_(fn), chunk_(c), sym_(std::move(sym)), inLoop_(inLoop) {}
 
   void print() {
     uint32_t next = chunk_.storeBegin;
@@ -79,6 +81,10 @@ public:
     for (; next < chunk_.storeEnd; ++next)
       printStore(fn_.stores[next]);
   }
+
+  /// The C expression of node k's value and of its error bit.
+  std::string valueOf(uint32_t k) const { return ref(k); }
+  std::string errorOf(uint32_t k) const { return err(k); }
 
 private:
   void printStore(const PlanStore &s) {
@@ -129,6 +135,15 @@ private:
     std::string b = numOperands(n.op) >= 2 ? ref(n.b) : "";
     std::string v = "v" + std::to_string(k);
     std::string expr, check;
+    if (n.op == OpCode::Reduce) {
+      std::string e = "e" + std::to_string(k);
+      if (n.mayFail)
+        os_ << "  int " << e << " = " << err(n.a) << ";\n";
+      os_ << "  const double " << v << " = " << sym_ << "_reduce" << n.index
+          << "(t, y, yp, p, cj, " << a << ", " << (n.mayFail ? "&" + e : "0")
+          << ");\n";
+      return;
+    }
     switch (n.op) {
     case OpCode::Add: expr = a + " + " + b; break;
     case OpCode::Sub: expr = a + " - " + b; break;
@@ -221,6 +236,7 @@ private:
   std::ostream &os_;
   const PlanFunction &fn_;
   const PlanChunk &chunk_;
+  std::string sym_;
   bool inLoop_;
 };
 
@@ -245,19 +261,21 @@ void printArray(std::ostream &os, const std::string &type,
                 const std::string &name, const std::vector<T> &values,
                 F format);
 
-/// A loop (PlanLoop) as a static function of the chunk signature, with its
-/// non-affine index columns as static tables.
-void printLoop(std::ostream &os, const std::string &sym, const PlanLoop &loop) {
+/// The non-affine index columns of a loop as static tables, for
+/// printLoopHeader.
+void printColumnTables(std::ostream &os, const std::string &sym,
+                       const PlanLoop &loop) {
   for (size_t c = 0; c < loop.columns.size(); ++c)
     if (!loop.columns[c].affine())
       printArray(os, "int", sym + "_c" + std::to_string(c),
                  loop.columns[c].table,
                  [](int32_t v) { return std::to_string(v); });
-  os << "static int " << sym << kChunkParams << " {\n"
-     << "  int rc = 0;\n"
-     << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out0; "
-        "(void)out1; (void)tmp;\n"
-     << "  for (long i = 0; i < " << loop.count << "; ++i) {\n";
+}
+
+/// `for (i ...) {` and the iteration's index columns c0, c1, ...
+void printLoopHeader(std::ostream &os, const std::string &sym,
+                     const PlanLoop &loop) {
+  os << "  for (long i = 0; i < " << loop.count << "; ++i) {\n";
   for (size_t c = 0; c < loop.columns.size(); ++c) {
     const IndexColumn &col = loop.columns[c];
     os << "  const long c" << c << " = ";
@@ -267,8 +285,38 @@ void printLoop(std::ostream &os, const std::string &sym, const PlanLoop &loop) {
       os << sym << "_c" << c << "[i];\n";
     os << "  (void)c" << c << ";\n";
   }
-  ChunkPrinter(os, loop.body, loop.body.chunks[0], true).print();
+}
+
+/// A loop (PlanLoop) as a static function of the chunk signature.
+void printLoop(std::ostream &os, const std::string &sym, const PlanLoop &loop,
+               const std::string &fnSym) {
+  printColumnTables(os, sym, loop);
+  os << "static int " << sym << kChunkParams << " {\n"
+     << "  int rc = 0;\n"
+     << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out0; "
+        "(void)out1; (void)tmp;\n";
+  printLoopHeader(os, sym, loop);
+  ChunkPrinter(os, loop.body, loop.body.chunks[0], fnSym, true).print();
   os << "  }\n  return rc;\n}\n\n";
+}
+
+/// A reduction as `static double <sym>(t, y, yp, p, cj, acc, int *err)`.
+void printReduction(std::ostream &os, const std::string &sym,
+                    const PlanLoop &r, const std::string &fnSym) {
+  printColumnTables(os, sym, r);
+  os << "static double " << sym
+     << "(double t, const double *restrict y, const double *restrict yp, "
+        "const double *restrict p, double cj, double acc, int *err) {\n"
+     << "  int failed = 0;\n"
+     << "  (void)t; (void)y; (void)yp; (void)p; (void)cj;\n";
+  printLoopHeader(os, sym, r);
+  ChunkPrinter body(os, r.body, r.body.chunks[0], fnSym, true);
+  body.print();
+  uint32_t root = r.body.nodes.size() - 1;
+  os << "  acc = acc " << (r.subtract ? "-" : "+") << " "
+     << body.valueOf(root) << ";\n"
+     << "  failed |= " << body.errorOf(root) << ";\n"
+     << "  }\n  if (err) *err |= failed;\n  return acc;\n}\n\n";
 }
 
 void printFunction(std::ostream &os, const CodePlan &plan,
@@ -278,6 +326,9 @@ void printFunction(std::ostream &os, const CodePlan &plan,
   // The straight-line chunks, then the loops: called in order while no
   // error has been returned (as the LLVM emitter does).
   std::vector<std::string> parts;
+  for (size_t r = 0; r < fn.reductions.size(); ++r)
+    printReduction(os, sym + "_reduce" + std::to_string(r), fn.reductions[r],
+                   sym);
   if (!single) {
     for (size_t c = 0; !fn.stores.empty() && c < fn.chunks.size(); ++c) {
       parts.push_back(sym + "_chunk" + std::to_string(c));
@@ -285,12 +336,12 @@ void printFunction(std::ostream &os, const CodePlan &plan,
          << "  int rc = 0;\n"
          << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out0; "
             "(void)out1; (void)tmp;\n";
-      ChunkPrinter(os, fn, fn.chunks[c]).print();
+      ChunkPrinter(os, fn, fn.chunks[c], sym).print();
       os << "  return rc;\n}\n\n";
     }
     for (size_t l = 0; l < fn.loops.size(); ++l) {
       parts.push_back(sym + "_loop" + std::to_string(l));
-      printLoop(os, parts.back(), fn.loops[l]);
+      printLoop(os, parts.back(), fn.loops[l], sym);
     }
   }
   os << "int " << sym << exportedParams(fn.sig) << " {\n";
@@ -306,7 +357,7 @@ void printFunction(std::ostream &os, const CodePlan &plan,
          << " * sizeof(double));\n";
   if (single) {
     os << "  {\n";
-    ChunkPrinter(os, fn, fn.chunks[0]).print();
+    ChunkPrinter(os, fn, fn.chunks[0], sym).print();
     os << "  }\n  return rc;\n}\n\n";
     return;
   }

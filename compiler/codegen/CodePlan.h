@@ -39,6 +39,8 @@ enum class OpCode : uint8_t {
   And,    // (a != 0 && b != 0), 1 or 0 (b's error bit only when a != 0)
   Or,     // (a != 0 || b != 0), 1 or 0 (b's error bit only when a == 0)
   Not,    // a == 0, 1 or 0
+  Reduce, // a folded with reduction `index`: a ± term(0) ± term(1) ...
+          // in that order (the error bit: a's or any term's)
 };
 
 /// True for the leaves that read inputs or constants.
@@ -52,6 +54,7 @@ inline unsigned numOperands(OpCode op) {
   case OpCode::Sqrt:
   case OpCode::Func1:
   case OpCode::Not:
+  case OpCode::Reduce:
     return 1;
   case OpCode::Select:
     return 3;
@@ -115,6 +118,8 @@ struct PlanFunction {
   /// Stores of one repeated shape, computed by loops after the straight-line
   /// part above (see PlanLoop). Run only while no error has been returned.
   std::vector<PlanLoop> loops;
+  /// The loops Reduce nodes run: long sums of terms of one shape.
+  std::vector<PlanLoop> reductions;
 };
 
 /// An index that changes from one loop iteration to the next: base + i *
@@ -133,10 +138,15 @@ struct IndexColumn {
 /// function of one chunk in which every LoadY/LoadYp/LoadP index and every
 /// store's index and row name a column, read at i. Compile time then
 /// depends on the number of shapes, not on the number of equations.
+///
+/// A reduction (PlanFunction::reductions) has a body without stores: the
+/// value of its last node is added to the accumulator of its Reduce node,
+/// or subtracted when `subtract` is set.
 struct PlanLoop {
   uint32_t count = 0;
   PlanFunction body;
   std::vector<IndexColumn> columns;
+  bool subtract = false;
 };
 
 struct StateSetPlan {
@@ -188,9 +198,15 @@ constexpr unsigned kLoopMinCount = 8;
 /// (a loop recomputes subexpressions shared between its instances).
 constexpr unsigned kLoopMaxBody = 64;
 
-/// Moves the stores of `fn` that share an expression shape with at least
-/// kLoopMinCount others into loops; the rest stay straight-line. Runs
-/// before chunking; leaves `fn` without dead nodes.
+/// A sum with at least this many terms (a ground node's current balance)
+/// has its runs of terms of one shape folded by reduction loops.
+constexpr unsigned kReductionMinTerms = 64;
+
+/// Folds runs of at least kLoopMinCount same-shaped terms of long sums into
+/// Reduce nodes, then moves the stores of `fn` that share an expression
+/// shape with at least kLoopMinCount others into loops; the rest stays
+/// straight-line, in the same order of operations. Runs before chunking;
+/// leaves `fn` without dead nodes.
 void rollLoops(PlanFunction &fn);
 
 /// Removes nodes no store reaches and renumbers the rest (order kept).

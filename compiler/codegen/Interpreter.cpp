@@ -97,6 +97,33 @@ bool domainError(const PlanNode &n, double a, double b) {
   }
 }
 
+void evaluateNodes(const PlanFunction &fn, double t, const double *y,
+                   const double *yp, const double *p, double cj,
+                   const int64_t *columns, double *v, uint8_t *err);
+
+/// Folds the terms of reduction `r` into `acc`; sets `failed` when a term
+/// hit a domain error.
+double reduce(const PlanLoop &r, double acc, double t, const double *y,
+              const double *yp, const double *p, double cj, bool &failed) {
+  // Loop bodies hold no Reduce, so these buffers are never in use twice.
+  thread_local std::vector<double> v;
+  thread_local std::vector<uint8_t> err;
+  thread_local std::vector<int64_t> columns;
+  v.resize(r.body.nodes.size());
+  err.resize(r.body.nodes.size());
+  columns.resize(r.columns.size());
+  const size_t root = r.body.nodes.size() - 1;
+  for (uint32_t i = 0; i < r.count; ++i) {
+    for (size_t c = 0; c < r.columns.size(); ++c)
+      columns[c] = r.columns[c].at(i);
+    evaluateNodes(r.body, t, y, yp, p, cj, columns.data(), v.data(),
+                  err.data());
+    acc = r.subtract ? acc - v[root] : acc + v[root];
+    failed = failed || err[root];
+  }
+  return acc;
+}
+
 /// Evaluates the nodes of `fn` into v and err. In a loop body `columns`
 /// holds the iteration's index columns, which load indices name.
 void evaluateNodes(const PlanFunction &fn, double t, const double *y,
@@ -133,6 +160,12 @@ void evaluateNodes(const PlanFunction &fn, double t, const double *y,
     case OpCode::And: r = a != 0 && b != 0; break;
     case OpCode::Or: r = a != 0 || b != 0; break;
     case OpCode::Not: r = a == 0; break;
+    case OpCode::Reduce: {
+      bool failed = err[n.a];
+      v[k] = reduce(fn.reductions[n.index], a, t, y, yp, p, cj, failed);
+      err[k] = failed;
+      continue;
+    }
     }
     v[k] = r;
     if (n.mayFail) {

@@ -59,6 +59,14 @@ public:
         rcIn_(rcIn), dbl_(b.getDoubleTy()), val_(fn.nodes.size(), nullptr),
         err_(fn.nodes.size(), nullptr) {}
 
+  /// The functions Reduce nodes call (emitReduction), by reduction index.
+  void setReductions(const std::vector<llvm::Function *> *r) {
+    reductions_ = r;
+  }
+  /// Value and error bit (i1) of node k after emit().
+  llvm::Value *result(uint32_t k) { return value(k); }
+  llvm::Value *resultError(uint32_t k) { return error(k); }
+
   /// Emits nodes and stores; returns the i32 return code.
   llvm::Value *emit() {
     rc_ = rcIn_ ? rcIn_ : b_.getInt32(0);
@@ -250,6 +258,21 @@ private:
       break;
     }
     case OpCode::Not: r = boolean(b_.CreateFCmpOEQ(a, zero())); break;
+    case OpCode::Reduce: {
+      llvm::Value *slot = nullptr;
+      if (n.mayFail)
+        slot = b_.CreateAlloca(b_.getInt32Ty());
+      r = b_.CreateCall((*reductions_)[n.index],
+                        {args_.t, args_.y, args_.yp, args_.p, args_.cj, a,
+                         slot ? slot
+                              : llvm::ConstantPointerNull::get(b_.getPtrTy())});
+      if (n.mayFail)
+        err_[k] = b_.CreateOr(
+            error(n.a),
+            b_.CreateICmpNE(b_.CreateLoad(b_.getInt32Ty(), slot),
+                            b_.getInt32(0)));
+      break;
+    }
     default: assert(false && "leaf in computeNode");
     }
     val_[k] = r;
@@ -298,6 +321,7 @@ private:
   Args args_;
   const std::vector<llvm::Value *> *columns_;
   llvm::Value *rcIn_;
+  const std::vector<llvm::Function *> *reductions_ = nullptr;
   llvm::Type *dbl_;
   std::vector<llvm::Value *> val_, err_;
   llvm::Value *rc_ = nullptr;
@@ -322,51 +346,112 @@ void setPointerAttributes(const CodePlan &plan, llvm::Function *f,
   }
 }
 
-/// Emits the body of `lf` (a part signature, tmp unused): for i in
-/// [0, count) compute the index columns, then the loop body's nodes and
-/// store; the return code is carried through the iterations.
-void emitLoop(llvm::Module &m, const PlanLoop &loop, llvm::Function *lf) {
-  llvm::LLVMContext &ctx = m.getContext();
-  llvm::IRBuilder<> b(llvm::BasicBlock::Create(ctx, "entry", lf));
-  auto *header = llvm::BasicBlock::Create(ctx, "loop", lf);
-  auto *exit = llvm::BasicBlock::Create(ctx, "exit", lf);
-  llvm::Type *i64 = b.getInt64Ty(), *i32 = b.getInt32Ty();
-  llvm::BasicBlock *entry = b.GetInsertBlock();
-  b.CreateBr(header);
-  b.SetInsertPoint(header);
-  llvm::PHINode *i = b.CreatePHI(i64, 2, "i");
-  llvm::PHINode *rcIn = b.CreatePHI(i32, 2, "rc");
-  std::vector<llvm::Value *> columns;
-  for (size_t c = 0; c < loop.columns.size(); ++c) {
-    const IndexColumn &col = loop.columns[c];
-    if (col.affine()) {
-      columns.push_back(b.CreateAdd(
-          b.getInt64(col.base), b.CreateMul(i, b.getInt64(col.stride), "", false, true),
-          "", false, true));
-      continue;
+/// The counted loop of a PlanLoop in a fresh function: i from 0 to count - 1,
+/// values carried from one iteration to the next as phis, and the index
+/// columns computed at the top of each iteration.
+class CountedLoop {
+public:
+  CountedLoop(llvm::IRBuilder<> &b, llvm::Module &m, const PlanLoop &loop,
+              llvm::Function *f, llvm::ArrayRef<llvm::Value *> initial)
+      : b_(b), count_(loop.count) {
+    llvm::LLVMContext &ctx = m.getContext();
+    b.SetInsertPoint(llvm::BasicBlock::Create(ctx, "entry", f));
+    entry_ = b.GetInsertBlock();
+    header_ = llvm::BasicBlock::Create(ctx, "loop", f);
+    exit_ = llvm::BasicBlock::Create(ctx, "exit", f);
+    b.CreateBr(header_);
+    b.SetInsertPoint(header_);
+    i_ = b.CreatePHI(b.getInt64Ty(), 2, "i");
+    i_->addIncoming(b.getInt64(0), entry_);
+    for (llvm::Value *v : initial) {
+      carried_.push_back(b.CreatePHI(v->getType(), 2));
+      carried_.back()->addIncoming(v, entry_);
     }
-    auto *data = llvm::ConstantDataArray::get(ctx, llvm::ArrayRef<int32_t>(col.table));
-    auto *table = new llvm::GlobalVariable(
-        m, data->getType(), true, llvm::GlobalValue::PrivateLinkage, data,
-        lf->getName() + ".col" + std::to_string(c));
-    llvm::Value *at = b.CreateLoad(
-        i32, b.CreateInBoundsGEP(data->getType(), table, {b.getInt64(0), i}));
-    columns.push_back(b.CreateSExt(at, i64));
+    for (size_t c = 0; c < loop.columns.size(); ++c) {
+      const IndexColumn &col = loop.columns[c];
+      if (col.affine()) {
+        columns_.push_back(b.CreateAdd(
+            b.getInt64(col.base),
+            b.CreateMul(i_, b.getInt64(col.stride), "", false, true), "",
+            false, true));
+        continue;
+      }
+      auto *data = llvm::ConstantDataArray::get(
+          ctx, llvm::ArrayRef<int32_t>(col.table));
+      auto *table = new llvm::GlobalVariable(
+          m, data->getType(), true, llvm::GlobalValue::PrivateLinkage, data,
+          f->getName() + ".col" + std::to_string(c));
+      llvm::Value *at = b.CreateLoad(
+          b.getInt32Ty(),
+          b.CreateInBoundsGEP(data->getType(), table, {b.getInt64(0), i_}));
+      columns_.push_back(b.CreateSExt(at, b.getInt64Ty()));
+    }
   }
+  const std::vector<llvm::Value *> &columns() const { return columns_; }
+  llvm::Value *carried(unsigned k) const { return carried_[k]; }
+  /// Ends the iteration with the next carried values; leaves the builder
+  /// in the exit block.
+  void close(llvm::ArrayRef<llvm::Value *> next) {
+    llvm::BasicBlock *latch = b_.GetInsertBlock();
+    llvm::Value *i1 = b_.CreateAdd(i_, b_.getInt64(1), "", true, true);
+    i_->addIncoming(i1, latch);
+    for (size_t k = 0; k < next.size(); ++k)
+      carried_[k]->addIncoming(next[k], latch);
+    b_.CreateCondBr(b_.CreateICmpULT(i1, b_.getInt64(count_)), header_, exit_);
+    b_.SetInsertPoint(exit_);
+  }
+
+private:
+  llvm::IRBuilder<> &b_;
+  uint32_t count_;
+  llvm::BasicBlock *entry_, *header_, *exit_;
+  llvm::PHINode *i_;
+  std::vector<llvm::PHINode *> carried_;
+  std::vector<llvm::Value *> columns_;
+};
+
+/// Emits the body of `lf` (a part signature, tmp unused): the loop's stores
+/// for i in [0, count), the return code carried through the iterations.
+void emitLoop(llvm::Module &m, const PlanLoop &loop, llvm::Function *lf) {
+  llvm::IRBuilder<> b(m.getContext());
+  CountedLoop cl(b, m, loop, lf, {b.getInt32(0)});
   ChunkEmitter::Args args{lf->getArg(0), lf->getArg(1), lf->getArg(2),
                           lf->getArg(3), lf->getArg(4), lf->getArg(5),
                           lf->getArg(6), nullptr};
-  llvm::Value *rcOut = ChunkEmitter(b, m, loop.body, loop.body.chunks[0], args,
-                                    &columns, rcIn)
-                           .emit();
-  llvm::Value *next = b.CreateAdd(i, b.getInt64(1), "", true, true);
-  i->addIncoming(b.getInt64(0), entry);
-  i->addIncoming(next, b.GetInsertBlock());
-  rcIn->addIncoming(b.getInt32(0), entry);
-  rcIn->addIncoming(rcOut, b.GetInsertBlock());
-  b.CreateCondBr(b.CreateICmpULT(next, b.getInt64(loop.count)), header, exit);
-  b.SetInsertPoint(exit);
-  b.CreateRet(rcOut);
+  llvm::Value *rc = ChunkEmitter(b, m, loop.body, loop.body.chunks[0], args,
+                                 &cl.columns(), cl.carried(0))
+                        .emit();
+  cl.close({rc});
+  b.CreateRet(rc);
+}
+
+/// Emits `rf`: double (t, y, yp, p, cj, acc, int *err) folding the
+/// reduction's terms into acc in order; *err (when not null) is set to
+/// whether a term hit a domain error.
+void emitReduction(llvm::Module &m, const PlanLoop &r, llvm::Function *rf) {
+  llvm::IRBuilder<> b(m.getContext());
+  CountedLoop cl(b, m, r, rf, {rf->getArg(5), b.getFalse()});
+  ChunkEmitter::Args args{rf->getArg(0), rf->getArg(1), rf->getArg(2),
+                          rf->getArg(3), rf->getArg(4), nullptr,
+                          nullptr, nullptr};
+  ChunkEmitter body(b, m, r.body, r.body.chunks[0], args, &cl.columns());
+  body.emit();
+  uint32_t root = r.body.nodes.size() - 1;
+  llvm::Value *acc = r.subtract ? b.CreateFSub(cl.carried(0), body.result(root))
+                                : b.CreateFAdd(cl.carried(0), body.result(root));
+  llvm::Value *err = b.CreateOr(cl.carried(1), body.resultError(root));
+  cl.close({acc, err});
+  if (r.body.nodes[root].mayFail) {
+    llvm::Value *out = rf->getArg(6);
+    auto *store = llvm::BasicBlock::Create(m.getContext(), "store_error", rf);
+    auto *done = llvm::BasicBlock::Create(m.getContext(), "done", rf);
+    b.CreateCondBr(b.CreateIsNotNull(out), store, done);
+    b.SetInsertPoint(store);
+    b.CreateStore(b.CreateZExt(err, b.getInt32Ty()), out);
+    b.CreateBr(done);
+    b.SetInsertPoint(done);
+  }
+  b.CreateRet(acc);
 }
 
 /// Emits one plan function with its exported C ABI signature.
@@ -405,6 +490,20 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
       outs.push_back(i);
   setPointerAttributes(plan, f, {1, 2, 3}, outs);
 
+  std::vector<llvm::Function *> reductions;
+  auto *reduceTy = llvm::FunctionType::get(
+      dbl, {dbl, ptr, ptr, ptr, dbl, dbl, ptr}, false);
+  for (size_t r = 0; r < fn.reductions.size(); ++r) {
+    auto *rf = llvm::Function::Create(
+        reduceTy, llvm::Function::InternalLinkage,
+        functionSymbol(plan, fn) + ".reduce" + std::to_string(r), m);
+    rf->addFnAttr(llvm::Attribute::NoInline);
+    rf->addFnAttr(llvm::Attribute::NoUnwind);
+    setPointerAttributes(plan, rf, {1, 2, 3}, {6});
+    emitReduction(m, fn.reductions[r], rf);
+    reductions.push_back(rf);
+  }
+
   auto *entry = llvm::BasicBlock::Create(ctx, "entry", f);
   b.SetInsertPoint(entry);
   for (unsigned i = 0; i < 2; ++i)
@@ -414,7 +513,9 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
 
   if (fn.chunks.size() == 1 && fn.loops.empty()) {
     args.tmp = nullPtr;
-    b.CreateRet(ChunkEmitter(b, m, fn, fn.chunks[0], args).emit());
+    ChunkEmitter ce(b, m, fn, fn.chunks[0], args);
+    ce.setReductions(&reductions);
+    b.CreateRet(ce.emit());
     return;
   }
 
@@ -450,7 +551,9 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
     ChunkEmitter::Args ca{cf->getArg(0), cf->getArg(1), cf->getArg(2),
                           cf->getArg(3), cf->getArg(4), cf->getArg(5),
                           cf->getArg(6), cf->getArg(7)};
-    cb.CreateRet(ChunkEmitter(cb, m, fn, fn.chunks[c], ca).emit());
+    ChunkEmitter ce(cb, m, fn, fn.chunks[c], ca);
+    ce.setReductions(&reductions);
+    cb.CreateRet(ce.emit());
     parts.push_back(cf);
   }
   for (size_t l = 0; l < fn.loops.size(); ++l) {
@@ -512,6 +615,8 @@ size_t planNodes(const CodePlan &plan) {
     n += fn.nodes.size();
     for (const PlanLoop &l : fn.loops)
       n += l.body.nodes.size();
+    for (const PlanLoop &r : fn.reductions)
+      n += r.body.nodes.size();
   }
   return n;
 }

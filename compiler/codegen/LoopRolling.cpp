@@ -14,6 +14,7 @@
 // contents, merged when the columns are deduplicated).
 #include "codegen/CodePlan.h"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 #include <unordered_map>
@@ -37,16 +38,18 @@ public:
   explicit ConeWalker(const PlanFunction &fn)
       : fn_(fn), local_(fn.nodes.size(), -1) {}
 
-  /// The cone of `s`; `nodes` is empty if it exceeds kLoopMaxBody nodes.
-  Cone walk(const PlanStore &s) {
+  /// The cone of `root`; `nodes` is empty if it exceeds kLoopMaxBody nodes
+  /// or holds a Reduce (loops do not nest). `tag` starts the shape (the
+  /// store's output array, a term's sign).
+  Cone walk(uint32_t root, char tag) {
     Cone c;
-    if (!visit(s.node, c.nodes)) {
+    if (!visit(root, c.nodes)) {
       reset(c.nodes);
       c.nodes.clear();
       return c;
     }
     c.shape.reserve(c.nodes.size() * 12 + 1);
-    c.shape.push_back(char(s.array));
+    c.shape.push_back(tag);
     uint32_t loads = 0;
     for (uint32_t k : c.nodes) {
       const PlanNode &n = fn_.nodes[k];
@@ -83,6 +86,8 @@ private:
         continue;
       }
       const PlanNode &n = fn_.nodes[k];
+      if (n.op == OpCode::Reduce)
+        return false;
       if (next < numOperands(n.op)) {
         uint32_t child = n.operand(next++);
         if (local_[child] < 0)
@@ -109,9 +114,6 @@ private:
   std::vector<int32_t> local_;
   std::vector<std::pair<uint32_t, unsigned>> stack_;
 
-public:
-  /// Local index of a node during `build` (the cone of the first instance).
-  std::vector<int32_t> &local() { return local_; }
 };
 
 /// An index column from its values: affine when evenly spaced.
@@ -128,10 +130,11 @@ IndexColumn makeColumn(const std::vector<int64_t> &values) {
   return c;
 }
 
-/// Builds the loop computing stores `members` of `fn`, all with the shape
-/// of `cone` (the first member's cone).
+/// Builds the loop whose iteration i evaluates the cone `cones[members[i]]`
+/// (all of one shape) and, unless it is a reduction, performs the store
+/// `fn.stores[members[i]]`.
 PlanLoop buildLoop(const PlanFunction &fn, const std::vector<uint32_t> &members,
-                   const std::vector<Cone> &cones) {
+                   const std::vector<Cone> &cones, bool reduction) {
   const Cone &first = cones[members[0]];
   PlanLoop loop;
   loop.count = members.size();
@@ -148,9 +151,11 @@ PlanLoop buildLoop(const PlanFunction &fn, const std::vector<uint32_t> &members,
       raw.emplace_back();
     }
   // The row is read only to report a domain error.
-  bool needsRow = fn.nodes[fn.stores[members[0]].node].mayFail;
+  bool needsRow =
+      !reduction && fn.nodes[fn.stores[members[0]].node].mayFail;
   unsigned indexCol = raw.size(), rowCol = needsRow ? indexCol + 1 : indexCol;
-  raw.resize(rowCol + 1);
+  if (!reduction)
+    raw.resize(rowCol + 1);
   for (std::vector<int64_t> &c : raw)
     c.reserve(members.size());
   for (uint32_t m : members) {
@@ -158,6 +163,8 @@ PlanLoop buildLoop(const PlanFunction &fn, const std::vector<uint32_t> &members,
     for (size_t j = 0; j < cone.nodes.size(); ++j)
       if (isLoad(fn.nodes[cone.nodes[j]].op))
         raw[loadColumn[j]].push_back(fn.nodes[cone.nodes[j]].index);
+    if (reduction)
+      continue;
     raw[indexCol].push_back(fn.stores[m].index);
     if (needsRow)
       raw[rowCol].push_back(fn.stores[m].row);
@@ -191,18 +198,93 @@ PlanLoop buildLoop(const PlanFunction &fn, const std::vector<uint32_t> &members,
       n.index = int32_t(columnOf[loadColumn[j]]);
     body.nodes.push_back(n);
   }
-  const PlanStore &s = fn.stores[members[0]];
   uint32_t root = body.nodes.size() - 1;
-  body.stores.push_back(
-      {root, s.array, columnOf[indexCol], columnOf[rowCol], root});
-  body.chunks.push_back({0, uint32_t(body.nodes.size()), 0, 1});
+  if (!reduction) {
+    const PlanStore &s = fn.stores[members[0]];
+    body.stores.push_back(
+        {root, s.array, columnOf[indexCol], columnOf[rowCol], root});
+  }
+  body.chunks.push_back({0, uint32_t(body.nodes.size()), 0,
+                         uint32_t(body.stores.size())});
   body.spill.assign(body.nodes.size(), -1);
   return loop;
+}
+
+/// Finds sums of at least kReductionMinTerms terms (chains a + t1 - t2 ...
+/// whose inner links have no other use) and replaces each run of at least
+/// kLoopMinCount consecutive terms of one sign and shape by a Reduce node:
+/// the same additions in the same order, run by a loop.
+void rollReductions(PlanFunction &fn) {
+  auto isSum = [&](uint32_t k) {
+    return fn.nodes[k].op == OpCode::Add || fn.nodes[k].op == OpCode::Sub;
+  };
+  // The user of each node that has exactly one use, when that user
+  // continues its chain (reads it as operand a).
+  std::vector<uint32_t> uses(fn.nodes.size(), 0), user(fn.nodes.size(), 0);
+  for (uint32_t k = 0; k < fn.nodes.size(); ++k)
+    for (unsigned i = 0; i < numOperands(fn.nodes[k].op); ++i) {
+      ++uses[fn.nodes[k].operand(i)];
+      user[fn.nodes[k].operand(i)] = k;
+    }
+  for (const PlanStore &s : fn.stores)
+    uses[s.node] += 2; // a stored value ends its chain
+  auto continues = [&](uint32_t k) {
+    return uses[k] == 1 && isSum(user[k]) && fn.nodes[user[k]].a == k &&
+           fn.nodes[user[k]].b != k;
+  };
+  ConeWalker walker(fn);
+  std::vector<uint32_t> chain;
+  std::vector<Cone> cones;
+  for (uint32_t top = 0; top < fn.nodes.size(); ++top) {
+    if (!isSum(top) || (isSum(top) && continues(top)))
+      continue;
+    chain.clear();
+    for (uint32_t c = top;; c = fn.nodes[c].a) {
+      chain.push_back(c);
+      uint32_t below = fn.nodes[c].a;
+      if (!isSum(below) || !continues(below))
+        break;
+    }
+    if (chain.size() < kReductionMinTerms)
+      continue;
+    std::reverse(chain.begin(), chain.end()); // first addition first
+    cones.clear();
+    for (uint32_t c : chain)
+      cones.push_back(walker.walk(fn.nodes[c].b, char(fn.nodes[c].op)));
+    for (size_t s = 0; s < chain.size();) {
+      size_t e = s + 1;
+      while (e < chain.size() && !cones[s].nodes.empty() &&
+             cones[e].shape == cones[s].shape)
+        ++e;
+      if (cones[s].nodes.empty() || e - s < kLoopMinCount) {
+        s = e;
+        continue;
+      }
+      std::vector<uint32_t> members;
+      for (size_t j = s; j < e; ++j)
+        members.push_back(j);
+      PlanLoop loop = buildLoop(fn, members, cones, true);
+      loop.subtract = fn.nodes[chain[s]].op == OpCode::Sub;
+      PlanNode &last = fn.nodes[chain[e - 1]];
+      last.op = OpCode::Reduce;
+      last.a = fn.nodes[chain[s]].a;
+      last.b = last.c = 0;
+      last.index = int32_t(fn.reductions.size());
+      last.checks = false;
+      last.mayFail =
+          fn.nodes[last.a].mayFail || loop.body.nodes.back().mayFail;
+      fn.reductions.push_back(std::move(loop));
+      s = e;
+    }
+  }
 }
 
 } // namespace
 
 void rollLoops(PlanFunction &fn) {
+  rollReductions(fn);
+  if (!fn.reductions.empty())
+    removeDeadNodes(fn);
   if (fn.stores.size() < kLoopMinStores)
     return;
   ConeWalker walker(fn);
@@ -210,7 +292,7 @@ void rollLoops(PlanFunction &fn) {
   std::unordered_map<std::string, std::vector<uint32_t>> byShape;
   std::vector<const std::string *> order; // shapes in order of first store
   for (uint32_t i = 0; i < fn.stores.size(); ++i) {
-    cones[i] = walker.walk(fn.stores[i]);
+    cones[i] = walker.walk(fn.stores[i].node, char(fn.stores[i].array));
     if (cones[i].nodes.empty())
       continue;
     auto [it, fresh] = byShape.try_emplace(cones[i].shape);
@@ -223,7 +305,7 @@ void rollLoops(PlanFunction &fn) {
     const std::vector<uint32_t> &members = byShape.at(*shape);
     if (members.size() < kLoopMinCount)
       continue;
-    fn.loops.push_back(buildLoop(fn, members, cones));
+    fn.loops.push_back(buildLoop(fn, members, cones, false));
     for (uint32_t m : members)
       rolled[m] = 1;
   }

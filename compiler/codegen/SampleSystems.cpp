@@ -185,6 +185,22 @@ SampleSystem chain(unsigned n) { return makeChain(n, false); }
 
 SampleSystem shuffledChain(unsigned n) { return makeChain(n, true); }
 
+SampleSystem logSum(unsigned n) {
+  Builder b("log_sum" + std::to_string(n));
+  auto &c = b.c();
+  std::vector<ExprRef> res, logs;
+  for (unsigned i = 0; i < n; ++i) {
+    ExprRef x = b.state("x[" + std::to_string(i + 1) + "]", false, std::sqrt(2));
+    res.push_back(c.sub(c.pow(x, c.constant(2)), c.constant(2)));
+    logs.push_back(c.call(FuncKind::Log, x));
+  }
+  ExprRef s = b.state("s", false, 0);
+  res.push_back(c.sub(s, c.add(logs)));
+  b.output("s", s);
+  b.singleSet(res);
+  return b.take();
+}
+
 SampleSystem logChain(unsigned n) {
   Builder b("log_chain" + std::to_string(n));
   auto &c = b.c();

@@ -36,6 +36,10 @@ SampleSystem shuffledChain(unsigned n);
 /// iterations hit a domain error where x[i] <= 0.
 SampleSystem logChain(unsigned n);
 
+/// n algebraic unknowns x[i] with x[i]^2 = 2 and s = sum of log(x[i]): a
+/// long sum compiled as a reduction loop, with a domain check per term.
+SampleSystem logSum(unsigned n);
+
 /// Every built-in of the language applied to unknowns u, v (differential)
 /// in residuals z[i] - f_i(u, v) and in outputs.
 SampleSystem builtins();

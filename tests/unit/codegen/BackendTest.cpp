@@ -216,6 +216,10 @@ const ModelCase kCases[] = {
     {"chain120_loops", [] { return samples::chain(120); }, -1.0, 1.0, 2000},
     {"shuffled_chain120_loops", [] { return samples::shuffledChain(120); },
      -1.0, 1.0, 16},
+    {"log_sum100_reduction", [] { return samples::logSum(100); }, 0.1, 2.0,
+     2000},
+    {"log_sum100_reduction_chunked", [] { return samples::logSum(100); }, 0.1,
+     2.0, 7},
 };
 
 INSTANTIATE_TEST_SUITE_P(Models, Backends, ::testing::ValuesIn(kCases),

@@ -6,6 +6,7 @@
 
 #include "codegen/CodePlan.h"
 
+#include <cmath>
 #include <gtest/gtest.h>
 
 using namespace ldae;
@@ -98,29 +99,75 @@ TEST(Loops, EqualStraightLineCode) {
   expectLoopsEqualStraightLine(samples::shuffledChain(300));
 }
 
+TEST(Loops, LongSumIsOneReduction) {
+  auto s = samples::logSum(200);
+  auto plan = lowerToPlan(s.sys);
+  ASSERT_TRUE(bool(plan)) << plan.error();
+  const PlanFunction &res = function(*plan, "residual_0");
+  ASSERT_EQ(res.reductions.size(), 1u);
+  // s - (log(x[1]) + log(x[2]) + ...): the inner sum starts from log(x[1])
+  // and folds the 199 others.
+  EXPECT_EQ(res.reductions[0].count, 199u);
+  EXPECT_FALSE(res.reductions[0].subtract);
+  unsigned reduces = 0;
+  for (const PlanNode &n : res.nodes)
+    reduces += n.op == OpCode::Reduce;
+  EXPECT_EQ(reduces, 1u);
+  // The same additions in the same order as the straight-line sum.
+  expectLoopsEqualStraightLine(s);
+}
+
+/// The residual of one system in the JIT, the interpreter and emitted C.
+class ThreeBackends {
+public:
+  explicit ThreeBackends(const samples::SampleSystem &s) : lib_(s.sys) {
+    CodegenOptions interpOpts;
+    interpOpts.jit = false;
+    jit_ = compileOrDie(s.sys, {});
+    interp_ = compileOrDie(s.sys, interpOpts);
+  }
+  bool ok() const { return jit_ && interp_ && lib_.model(); }
+  const std::string &error() const { return lib_.error(); }
+  /// Return codes of the residual at y (y' = 0) in each backend; r gets
+  /// the emitted C's values.
+  std::vector<int> codes(const std::vector<double> &y, std::vector<double> &r) {
+    std::vector<double> yp(y.size(), 0.0);
+    r.resize(y.size());
+    std::vector<int> c;
+    for (const ldae_model *m : {&jit_->model(), &interp_->model(), lib_.model()})
+      c.push_back(m->state_sets[0].residual(0, y.data(), yp.data(), nullptr,
+                                            r.data()));
+    return c;
+  }
+
+private:
+  std::unique_ptr<CompiledModel> jit_, interp_;
+  CLibrary lib_;
+};
+
+TEST(Loops, DomainErrorInAReductionNamesItsRow) {
+  ThreeBackends b(samples::logSum(200));
+  ASSERT_TRUE(b.ok()) << b.error();
+  std::vector<double> y(201, 1.5), r;
+  EXPECT_EQ(b.codes(y, r), std::vector<int>({0, 0, 0}));
+  EXPECT_NEAR(r[200], 1.5 - 200 * std::log(1.5), 1e-12); // s - sum
+  y[120] = -1; // log(x[121]) in the sum of row 201
+  EXPECT_EQ(b.codes(y, r), std::vector<int>({201, 201, 201}));
+}
+
 TEST(Loops, DomainErrorNamesTheFailingIteration) {
   auto s = samples::logChain(100);
   auto plan = lowerToPlan(s.sys);
   ASSERT_TRUE(bool(plan)) << plan.error();
   ASSERT_EQ(function(*plan, "residual_0").loops.size(), 1u);
-  CodegenOptions interpOpts;
-  interpOpts.jit = false;
-  auto jit = compileOrDie(s.sys, {}), interp = compileOrDie(s.sys, interpOpts);
-  CLibrary lib(s.sys);
-  ASSERT_TRUE(jit && interp && lib.model()) << lib.error();
-  std::vector<double> y(100, 2.0), yp(100, 0.0), r(100);
-  auto codes = [&] {
-    std::vector<int> c;
-    for (const ldae_model *m : {&jit->model(), &interp->model(), lib.model()})
-      c.push_back(m->state_sets[0].residual(0, y.data(), yp.data(), nullptr,
-                                            r.data()));
-    return c;
-  };
-  EXPECT_EQ(codes(), std::vector<int>({0, 0, 0}));
+  ThreeBackends b(s);
+  ASSERT_TRUE(b.ok()) << b.error();
+  std::vector<double> y(100, 2.0), r;
+  EXPECT_EQ(b.codes(y, r), std::vector<int>({0, 0, 0}));
   y[57] = -1;
-  EXPECT_EQ(codes(), std::vector<int>({58, 58, 58}));
+  EXPECT_EQ(b.codes(y, r), std::vector<int>({58, 58, 58}));
   y[30] = 0; // log(0): the earlier row wins
-  EXPECT_EQ(codes(), std::vector<int>({31, 31, 31}));
+  EXPECT_EQ(b.codes(y, r), std::vector<int>({31, 31, 31}));
 }
 
 } // namespace
