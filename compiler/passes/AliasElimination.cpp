@@ -6,16 +6,23 @@
 // variable whose derivative appears, then the shortest and alphabetically
 // first name (never the declaration order, so shuffling changes nothing).
 // The removed variables become outputs of the system.
+//
+// Cost: linear in the model per round (a round is needed when substituting
+// makes new aliases; connector models take two or three). Names are compared
+// once, by ranking them; a round rewrites only the equations that read an
+// eliminated variable, through a substitution memoized by node id.
 #include "passes/AnalysisState.h"
 #include "passes/SystemStructure.h"
 
-#include "ir/Query.h"
+#include "graph/Matching.h"
+#include "ir/Print.h"
 #include "ir/Substitute.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <span>
 
 namespace ldae::passes {
 
@@ -29,7 +36,9 @@ struct AliasEquation {
   std::optional<ir::VarId> b;
   double sb = 0;
   ir::ExprRef constant = nullptr; // the `c` (over parameters only)
-  std::string key;                // canonical order
+  /// Canonical order: the two names' ranks, smaller first; (-1, a) for
+  /// `a = c`. Ordering by rank is ordering by the names themselves.
+  std::pair<int, int> key;
 };
 
 /// `±1 * Variable(v, 0)` as (v, ±1).
@@ -89,7 +98,7 @@ std::optional<AliasEquation> matchAlias(ir::ExprContext &ctx,
     else
       return std::nullopt;
   }
-  AliasEquation ae{eq, 0, 0, std::nullopt, 0, nullptr, {}};
+  AliasEquation ae{eq, 0, 0, std::nullopt, 0, nullptr, {-1, -1}};
   if (vars.size() == 2 && consts.empty() && vars[0].first != vars[1].first) {
     ae.a = vars[0].first;
     ae.sa = vars[0].second;
@@ -137,13 +146,112 @@ struct SignedUnionFind {
   }
 };
 
-} // namespace
+/// ir::Substitution for the replacement of leaves (variables, `pre`) over
+/// a whole model: the replacements seed the memo, which is a table by node
+/// id instead of a hash map. The traversal is ir::postOrder's (operands
+/// left to right), so new nodes are made in the same order.
+class LeafSubstitution {
+public:
+  explicit LeafSubstitution(ir::ExprContext &ctx) : ctx_(ctx) {}
+  /// Every occurrence of leaf `from` is replaced by `to`.
+  void set(ir::ExprRef from, ir::ExprRef to) { slot(from) = to; }
+  ir::ExprRef apply(ir::ExprRef e) {
+    if (ir::ExprRef r = known(e))
+      return r;
+    stack_.assign(1, {e, 0u});
+    while (!stack_.empty()) {
+      auto &[n, next] = stack_.back();
+      if (next < n->numOperands()) {
+        ir::ExprRef op = n->operand(next++);
+        if (!known(op))
+          stack_.push_back({op, 0u}); // `n` and `next` are stale from here
+        continue;
+      }
+      ir::ExprRef node = n;
+      stack_.pop_back();
+      ir::ExprRef result = node;
+      if (node->numOperands() != 0) {
+        ops_.clear();
+        bool changed = false;
+        for (ir::ExprRef op : node->operands()) {
+          ops_.push_back(known(op));
+          changed = changed || ops_.back() != op;
+        }
+        if (changed)
+          result = ir::rebuild(ctx_, node, ops_);
+      }
+      slot(node) = result;
+    }
+    return known(e);
+  }
 
-namespace {
+private:
+  ir::ExprRef known(ir::ExprRef n) const {
+    return n->id() < memo_.size() ? memo_[n->id()] : nullptr;
+  }
+  ir::ExprRef &slot(ir::ExprRef n) {
+    if (n->id() >= memo_.size())
+      memo_.resize(std::max<size_t>(n->id() + 1, 2 * memo_.size()), nullptr);
+    return memo_[n->id()];
+  }
+  ir::ExprContext &ctx_;
+  std::vector<ir::ExprRef> memo_; // by node id
+  std::vector<std::pair<ir::ExprRef, unsigned>> stack_;
+  std::vector<ir::ExprRef> ops_;
+};
+
+/// The state kept across rounds: name ranks and each equation's variables,
+/// rescanned only when a round rewrites the equation.
+struct AliasEliminator {
+  AnalysisState &s;
+  ir::Model &m;
+  const std::vector<int> &nameRank;           // by VarId: order of the names
+  std::vector<std::vector<ir::VarKey>> reads; // by equation
+  std::vector<char> readsPre;                 // by equation
+
+  explicit AliasEliminator(AnalysisState &s)
+      : s(s), m(s.model), nameRank(s.nameRanks()) {
+    reads.resize(m.equations.size());
+    readsPre.resize(m.equations.size());
+    for (size_t i = 0; i < m.equations.size(); ++i)
+      scan(i);
+  }
+
+  void scan(size_t eq) {
+    bool pre = false;
+    reads[eq] = variablesOf(m.equations[eq].residual, &pre);
+    readsPre[eq] = pre;
+  }
+
+  bool completeMatching() const;
+  int eliminateOnce();
+};
+
+/// Whether the equations can be matched to the continuous unknowns (orders
+/// merged). The size of a maximum matching does not depend on the order of
+/// rows and columns, so this skips runMatching's canonical order, which
+/// only a singular model's diagnosis needs.
+bool AliasEliminator::completeMatching() const {
+  const size_t nv = m.variables.size();
+  std::vector<int> col(nv, -1);
+  int cols = 0;
+  for (ir::VarId v = 0; v < nv; ++v)
+    if (!s.eliminated[v] && !m.variables[v].isDiscrete)
+      col[v] = cols++;
+  graph::BipartiteGraph g(static_cast<int>(reads.size()), cols);
+  for (size_t r = 0; r < reads.size(); ++r) {
+    std::vector<int> &row = g.rows[r];
+    for (ir::VarKey k : reads[r]) // sorted by variable: repeats are adjacent
+      if (col[k.var] >= 0 && (row.empty() || row.back() != col[k.var]))
+        row.push_back(col[k.var]);
+  }
+  graph::Matching mm = graph::maximumMatching(g);
+  return mm.size == g.numRows() && mm.size == g.numCols;
+}
+
 /// One round: finds the alias equations of the current model and removes
 /// them. Returns how many variables it eliminated, or -1 after an error.
-int eliminateOnce(AnalysisState &s) {
-  ir::Model &m = s.model;
+int AliasEliminator::eliminateOnce() {
   ir::ExprContext &ctx = m.ctx();
   const size_t nv = m.variables.size();
   const size_t before = s.aliases.size();
@@ -154,8 +262,8 @@ int eliminateOnce(AnalysisState &s) {
     for (const ir::Reinit &r : w.reinits)
       reinitTarget[r.var] = 1;
   std::vector<int> maxOrder(nv, 0);
-  for (const ir::Equation &e : m.equations)
-    for (ir::VarKey k : variablesOf(e.residual))
+  for (const std::vector<ir::VarKey> &eqReads : reads)
+    for (ir::VarKey k : eqReads)
       maxOrder[k.var] = std::max<int>(maxOrder[k.var], k.order);
 
   std::vector<AliasEquation> found;
@@ -168,8 +276,8 @@ int eliminateOnce(AnalysisState &s) {
       continue;
     if (!ae->b && reinitTarget[ae->a])
       continue;
-    std::string na = va.name, nb = ae->b ? m.variables[*ae->b].name : "";
-    ae->key = std::min(na, nb) + "\x1f" + std::max(na, nb);
+    int ra = nameRank[ae->a], rb = ae->b ? nameRank[*ae->b] : -1;
+    ae->key = {std::min(ra, rb), std::max(ra, rb)};
     found.push_back(*ae);
   }
   // Canonical order: which of several redundant equations stays must not
@@ -233,21 +341,35 @@ int eliminateOnce(AnalysisState &s) {
       return a.name.size() < b.name.size();
     return a.name < b.name;
   };
-  std::vector<std::vector<ir::VarId>> members(nv);
+  // Members of each class in increasing VarId, in one array (offsets by
+  // root): a vector per variable would be an allocation per variable.
   std::vector<double> toRoot(nv, 1.0);
+  std::vector<ir::VarId> rootOf(nv);
+  std::vector<size_t> start(nv + 1, 0);
   for (ir::VarId v = 0; v < nv; ++v) {
     auto [r, sg] = uf.find(v);
     toRoot[v] = sg;
-    members[r].push_back(v);
+    rootOf[v] = r;
+    ++start[r + 1];
+  }
+  for (size_t r = 0; r < nv; ++r)
+    start[r + 1] += start[r];
+  std::vector<ir::VarId> memberList(nv);
+  {
+    std::vector<size_t> fill(start.begin(), start.end() - 1);
+    for (ir::VarId v = 0; v < nv; ++v)
+      memberList[fill[rootOf[v]]++] = v;
   }
 
-  ir::Substitution subst(ctx);
+  LeafSubstitution subst(ctx);
+  std::vector<char> replaced(nv, 0); // eliminated in this round
   auto setAll = [&](ir::VarId v, unsigned top, auto valueAtOrder) {
     for (unsigned k = 0; k <= top; ++k)
       subst.set(ctx.var(v, k), valueAtOrder(k));
   };
   for (ir::VarId root = 0; root < nv; ++root) {
-    const std::vector<ir::VarId> &cls = members[root];
+    std::span<const ir::VarId> cls(memberList.data() + start[root],
+                                   start[root + 1] - start[root]);
     if (cls.size() < 2 && !classConst[root])
       continue;
     if (classConst[root]) {
@@ -255,6 +377,7 @@ int eliminateOnce(AnalysisState &s) {
       for (ir::VarId v : cls) {
         ir::ExprRef value = ctx.mul(ctx.constant(toRoot[v]), classConst[root]);
         s.eliminated[v] = 1;
+        replaced[v] = 1;
         s.aliases.push_back({v, value});
         setAll(v, maxOrder[v], [&](unsigned k) {
           return k == 0 ? value : ctx.zero();
@@ -296,6 +419,7 @@ int eliminateOnce(AnalysisState &s) {
       if (stateSelectRank(av.stateSelect) > stateSelectRank(rv.stateSelect))
         rv.stateSelect = av.stateSelect;
       s.eliminated[v] = 1;
+      replaced[v] = 1;
       ir::ExprRef value = ctx.mul(ctx.constant(sg), ctx.var(rep));
       s.aliases.push_back({v, value});
       setAll(v, maxOrder[v], [&](unsigned k) {
@@ -310,16 +434,31 @@ int eliminateOnce(AnalysisState &s) {
   if (s.aliases.size() == before)
     return 0;
   s.matchingCurrent = false;
-  // Apply: drop the alias equations, rewrite everything else.
-  std::vector<ir::Equation> kept;
+  // Apply: drop the alias equations, rewrite the equations that read an
+  // eliminated variable (rewriting the others would change nothing and
+  // make no node), in place.
+  size_t out = 0;
   for (size_t i = 0; i < m.equations.size(); ++i) {
     if (removeEq[i])
       continue;
-    ir::Equation e = m.equations[i];
-    e.residual = subst.apply(e.residual);
-    kept.push_back(std::move(e));
+    if (out != i) {
+      m.equations[out] = std::move(m.equations[i]);
+      reads[out] = std::move(reads[i]);
+      readsPre[out] = readsPre[i];
+    }
+    bool touched = readsPre[out] != 0;
+    for (ir::VarKey k : reads[out])
+      touched = touched || replaced[k.var];
+    if (touched) {
+      ir::Equation &e = m.equations[out];
+      e.residual = subst.apply(e.residual);
+      scan(out);
+    }
+    ++out;
   }
-  m.equations = std::move(kept);
+  m.equations.resize(out);
+  reads.resize(out);
+  readsPre.resize(out);
   for (ir::Equation &e : m.initialEquations)
     e.residual = subst.apply(e.residual);
   for (ir::WhenClause &w : m.whenClauses) {
@@ -350,22 +489,23 @@ int eliminateOnce(AnalysisState &s) {
 bool runAliasElimination(AnalysisState &s) {
   ir::Model &m = s.model;
   s.eliminated.assign(m.variables.size(), 0);
+  AliasEliminator elim(s);
   // A structurally singular model is diagnosed as the user wrote it:
   // eliminating `x = 1` would leave `2*x = 3` with no unknown at all.
-  runMatching(s);
-  if (s.mergedMatching.size != s.merged.numRows() ||
-      s.mergedMatching.size != s.merged.numCols)
+  if (!elim.completeMatching()) {
+    runMatching(s); // the canonical matching the diagnosis reads
     return true;
+  }
   // Substituting aliases makes new ones (`v = p.v - n.v` with n.v = 0):
   // repeat until a round finds none.
   for (int found = 1; found > 0;) {
-    found = eliminateOnce(s);
+    found = elim.eliminateOnce();
     if (found < 0)
       return false;
   }
   std::sort(s.aliases.begin(), s.aliases.end(),
             [&](const Alias &x, const Alias &y) {
-              return m.variables[x.var].name < m.variables[y.var].name;
+              return elim.nameRank[x.var] < elim.nameRank[y.var];
             });
   s.result.aliasesRemoved = static_cast<int>(s.aliases.size());
   for (const Alias &a : s.aliases)

@@ -4,7 +4,27 @@
 
 #include "ir/Print.h"
 
+#include <algorithm>
+#include <numeric>
+
 namespace ldae::passes {
+
+const std::vector<int> &AnalysisState::nameRanks() {
+  const std::vector<ir::Variable> &vars = model.variables;
+  if (nameRank.size() == vars.size())
+    return nameRank; // variables are only ever appended, never renamed
+  std::vector<ir::VarId> byName(vars.size());
+  std::iota(byName.begin(), byName.end(), 0);
+  std::sort(byName.begin(), byName.end(), [&](ir::VarId a, ir::VarId b) {
+    return vars[a].name < vars[b].name;
+  });
+  nameRank.assign(vars.size(), 0);
+  for (size_t i = 1; i < byName.size(); ++i)
+    nameRank[byName[i]] = vars[byName[i]].name == vars[byName[i - 1]].name
+                              ? nameRank[byName[i - 1]]
+                              : static_cast<int>(i);
+  return nameRank;
+}
 
 std::string AnalysisState::where(SourceLoc loc) const {
   if (!loc.valid())

@@ -60,6 +60,7 @@ struct AnalysisState {
   graph::BipartiteGraph merged;          // equations x unknowns (orders merged)
   graph::Matching mergedMatching;
   bool matchingCurrent = false; // merged/unknowns/equations match the model
+  std::vector<int> nameRank;    // see nameRanks()
 
   // pantelides
   bool reduced = false;
@@ -82,6 +83,11 @@ struct AnalysisState {
   std::vector<graph::BipartiteGraph> systemGraphs;
   /// Per state set, the slots each residual reads (see SystemStructure.h).
   std::vector<SystemReads> systemReads;
+
+  /// Rank of each variable's name (by VarId): equal names rank equal, and
+  /// ranks order like the names. Sorting by rank instead of by name
+  /// compares each pair of strings once, not once per sort.
+  const std::vector<int> &nameRanks();
 
   /// "file:line" of a location, or "" when it has none.
   std::string where(SourceLoc loc) const;

@@ -26,10 +26,9 @@ bool runMatching(AnalysisState &s) {
   for (ir::VarId v = 0; v < nv; ++v)
     if (!s.eliminated[v] && !m.variables[v].isDiscrete)
       s.unknowns.push_back(v);
+  const std::vector<int> &rank = s.nameRanks();
   std::sort(s.unknowns.begin(), s.unknowns.end(),
-            [&](ir::VarId a, ir::VarId b) {
-              return m.variables[a].name < m.variables[b].name;
-            });
+            [&](ir::VarId a, ir::VarId b) { return rank[a] < rank[b]; });
   s.unknownIndex.assign(nv, -1);
   for (size_t j = 0; j < s.unknowns.size(); ++j)
     s.unknownIndex[s.unknowns[j]] = static_cast<int>(j);

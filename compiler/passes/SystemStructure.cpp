@@ -8,7 +8,7 @@
 
 namespace ldae::passes {
 
-std::vector<ir::VarKey> variablesOf(ir::ExprRef e) {
+std::vector<ir::VarKey> variablesOf(ir::ExprRef e, bool *readsPre) {
   std::vector<ir::VarKey> out;
   // Visited marks by node id with a generation stamp: no clearing between
   // calls, O(1) per node (this runs once per residual, many times).
@@ -26,6 +26,8 @@ std::vector<ir::VarKey> variablesOf(ir::ExprRef e) {
     if (n->numOperands() == 0) {
       if (n->kind() == ir::ExprKind::Variable)
         out.push_back(n->varKey());
+      else if (readsPre && n->kind() == ir::ExprKind::Pre)
+        *readsPre = true;
       continue;
     }
     if (n->id() >= stamp.size())

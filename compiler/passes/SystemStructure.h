@@ -14,8 +14,8 @@ namespace ldae::passes {
 
 /// The distinct Variable nodes of `e`, sorted: ir::freeVariables for the
 /// many small residuals of a model, without a per-call cost in the size of
-/// the whole context.
-std::vector<ir::VarKey> variablesOf(ir::ExprRef e);
+/// the whole context. Sets `*readsPre` if `e` contains a `pre` node.
+std::vector<ir::VarKey> variablesOf(ir::ExprRef e, bool *readsPre = nullptr);
 
 /// Replaces Variable nodes by expressions, memoized by node id in a dense
 /// table (one residual after another over a shared DAG, so every node is
