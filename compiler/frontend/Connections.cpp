@@ -104,10 +104,9 @@ bool Flattener::pairConnectors(const RefTarget &a, const RefTarget &b,
   if (na->members.size() != nb->members.size())
     return false;
   for (auto &ma : na->members) {
-    auto it = nb->memberIndex.find(ma->name);
-    if (it == nb->memberIndex.end())
+    InstNode *mb = nb->findMember(ma->name);
+    if (!mb)
       return false;
-    InstNode *mb = it->second;
     if (ma->state != InstNode::State::Done || mb->state != InstNode::State::Done)
       return false;
     if (ma->dims != mb->dims || ma->isLeaf() != mb->isLeaf())

@@ -101,9 +101,35 @@ struct InstNode {
 
   /// Component arrays: the elements, row-major.
   std::vector<std::unique_ptr<InstNode>> elements;
-  /// Class instances: members in declaration order, inherited first.
+  /// Class instances: members in declaration order, inherited first, with
+  /// distinct names.
   std::vector<std::unique_ptr<InstNode>> members;
+  /// Name -> member, only for classes of many members: most instances
+  /// (pins, resistors) have a few, which a scan finds faster than a hash
+  /// map costs to build, and a large model has hundreds of thousands.
   std::unordered_map<std::string, InstNode *> memberIndex;
+  static constexpr size_t kMemberScanLimit = 8;
+
+  /// The member named `name`, or null.
+  InstNode *findMember(const std::string &name) const {
+    if (members.size() <= kMemberScanLimit) {
+      for (const auto &m : members)
+        if (m->name == name)
+          return m.get();
+      return nullptr;
+    }
+    auto it = memberIndex.find(name);
+    return it == memberIndex.end() ? nullptr : it->second;
+  }
+  /// Appends a member whose name no member has.
+  void addMember(std::unique_ptr<InstNode> m) {
+    members.push_back(std::move(m));
+    if (members.size() == kMemberScanLimit + 1)
+      for (const auto &old : members)
+        memberIndex.emplace(old->name, old.get());
+    else if (members.size() > kMemberScanLimit + 1)
+      memberIndex.emplace(members.back()->name, members.back().get());
+  }
   /// Equations of the class instance with the class they are written in.
   std::vector<std::pair<const ast::Equation *, const ast::ClassDef *>>
       equations, initialEquations;

@@ -394,9 +394,8 @@ struct Collector {
       ModPtr mod = (f.*makeMod)(comp.mod.get(), Scope{&node, &cls});
       for (auto it = extendsMods.rbegin(); it != extendsMods.rend(); ++it)
         mod = mergeMods(*it ? (*it)->sub(comp.name) : nullptr, mod);
-      auto existing = node.memberIndex.find(comp.name);
-      if (existing != node.memberIndex.end()) {
-        const ast::Component *old = existing->second->decl;
+      if (const InstNode *existing = node.findMember(comp.name)) {
+        const ast::Component *old = existing->decl;
         if (old != &comp && (old->typeName.str() != comp.typeName.str() ||
                              old->dims.size() != comp.dims.size())) {
           Diagnostic &diag =
@@ -415,8 +414,7 @@ struct Collector {
       child->decl = &comp;
       child->declClass = &cls;
       child->mod = mod;
-      node.memberIndex[comp.name] = child.get();
-      node.members.push_back(std::move(child));
+      node.addMember(std::move(child));
     }
     for (const ast::Equation &eq : cls.equations)
       node.equations.emplace_back(&eq, &cls);
@@ -439,7 +437,7 @@ void Flattener::elaborateInstance(InstNode &node) {
     if (!ext)
       continue;
     for (auto &[name, sub] : ext->subs)
-      if (!node.memberIndex.count(name)) {
+      if (!node.findMember(name)) {
         std::vector<std::string> names;
         for (const auto &m : node.members)
           names.push_back(m->name);

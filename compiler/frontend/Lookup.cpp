@@ -160,8 +160,8 @@ Flattener::resolveInstancePath(const ast::Expr &ref, size_t firstPart,
     const std::string &member = ref.parts[i + 1].name;
     for (RefTarget &t : sel.targets) {
       InstNode *n = t.node;
-      auto it = n->memberIndex.find(member);
-      if (n->isLeaf() || it == n->memberIndex.end()) {
+      InstNode *found = n->isLeaf() ? nullptr : n->findMember(member);
+      if (!found) {
         std::vector<std::string> names;
         for (const auto &m : n->members)
           names.push_back(m->name);
@@ -175,7 +175,7 @@ Flattener::resolveInstancePath(const ast::Expr &ref, size_t firstPart,
                         {member, written, n->typeName, best});
         return std::nullopt;
       }
-      t = {it->second, -1};
+      t = {found, -1};
     }
   }
   return sel;
@@ -282,10 +282,9 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
     }
   // Components of the instance.
   if (!ref.global && scope.inst) {
-    auto it = scope.inst->memberIndex.find(first);
-    if (it != scope.inst->memberIndex.end()) {
+    if (InstNode *member = scope.inst->findMember(first)) {
       std::optional<Selection> sel =
-          resolveInstancePath(ref, 0, it->second, scope, env);
+          resolveInstancePath(ref, 0, member, scope, env);
       if (!sel)
         return std::nullopt;
       Value v;
@@ -353,9 +352,8 @@ Flattener::selectComponents(const ast::Expr &ref, const Scope &scope,
                             Env *env) {
   const std::string &first = ref.parts[0].name;
   if (!ref.global && scope.inst) {
-    auto it = scope.inst->memberIndex.find(first);
-    if (it != scope.inst->memberIndex.end())
-      return resolveInstancePath(ref, 0, it->second, scope, env);
+    if (InstNode *member = scope.inst->findMember(first))
+      return resolveInstancePath(ref, 0, member, scope, env);
   }
   reportUndefined(ref, scope, env);
   return std::nullopt;

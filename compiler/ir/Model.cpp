@@ -25,19 +25,21 @@ const char *stateSelectName(StateSelect s) {
 
 VarId Model::addVariable(Variable v) {
   auto id = static_cast<VarId>(variables.size());
-  varIndex_.emplace(v.name, id); // the first declaration keeps the name
   variables.push_back(std::move(v));
   return id;
 }
 
 ParamId Model::addParameter(Parameter p) {
   auto id = static_cast<ParamId>(parameters.size());
-  paramIndex_.emplace(p.name, id);
   parameters.push_back(std::move(p));
   return id;
 }
 
 std::optional<VarId> Model::findVariable(const std::string &name) const {
+  // The first declaration keeps the name.
+  for (; varsIndexed_ < variables.size(); ++varsIndexed_)
+    varIndex_.emplace(variables[varsIndexed_].name,
+                      static_cast<VarId>(varsIndexed_));
   auto it = varIndex_.find(name);
   if (it == varIndex_.end())
     return std::nullopt;
@@ -45,6 +47,9 @@ std::optional<VarId> Model::findVariable(const std::string &name) const {
 }
 
 std::optional<ParamId> Model::findParameter(const std::string &name) const {
+  for (; paramsIndexed_ < parameters.size(); ++paramsIndexed_)
+    paramIndex_.emplace(parameters[paramsIndexed_].name,
+                        static_cast<ParamId>(paramsIndexed_));
   auto it = paramIndex_.find(name);
   if (it == paramIndex_.end())
     return std::nullopt;

@@ -124,8 +124,12 @@ public:
 
 private:
   std::shared_ptr<ExprContext> ctx_;
-  std::unordered_map<std::string, VarId> varIndex_;
-  std::unordered_map<std::string, ParamId> paramIndex_;
+  // Name indexes, built on the first lookup: the frontend adds every
+  // variable of a large model and never looks one up, and a hash map of
+  // strings is a large part of flattening.
+  mutable std::unordered_map<std::string, VarId> varIndex_;
+  mutable std::unordered_map<std::string, ParamId> paramIndex_;
+  mutable size_t varsIndexed_ = 0, paramsIndexed_ = 0;
 };
 
 } // namespace ldae::ir
