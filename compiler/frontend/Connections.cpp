@@ -11,15 +11,13 @@
 namespace ldae::frontend {
 namespace {
 
-/// Union-find with path halving over dense integer keys.
+/// Union-find with path halving over dense integer keys (0 <= key < size).
 struct UnionFind {
-  std::unordered_map<uint64_t, uint64_t> parent;
+  std::vector<uint64_t> parent;
+  explicit UnionFind(size_t size) : parent(size) {
+    std::iota(parent.begin(), parent.end(), 0);
+  }
   uint64_t find(uint64_t x) {
-    auto it = parent.find(x);
-    if (it == parent.end()) {
-      parent.emplace(x, x);
-      return x;
-    }
     while (parent[x] != x) {
       parent[x] = parent[parent[x]];
       x = parent[x];
@@ -135,13 +133,17 @@ bool Flattener::pairConnectors(const RefTarget &a, const RefTarget &b,
 
 void Flattener::buildConnectionEquations() {
   ir::ExprContext &c = ctx();
-  UnionFind potentials, flows;
+  // Tables by variable (potentials) and by flow key (variable, outside):
+  // every key is below twice the number of variables.
+  const size_t nv = model_->variables.size();
+  UnionFind potentials(nv), flows(2 * nv);
   auto key = [](ir::VarId v, bool outside) {
     return (static_cast<uint64_t>(v) << 1) | (outside ? 1 : 0);
   };
-  std::vector<bool> insideConnected(model_->variables.size(), false);
+  std::vector<bool> insideConnected(nv, false);
   std::vector<uint64_t> flowOrder; // keys in order of first appearance
-  std::unordered_map<uint64_t, size_t> firstPair;
+  constexpr size_t kNone = SIZE_MAX;
+  std::vector<size_t> firstPair(2 * nv, kNone);
   for (size_t i = 0; i < connectPairs_.size(); ++i) {
     const ConnectPair &p = connectPairs_[i];
     if (!p.flow) {
@@ -158,8 +160,8 @@ void Flattener::buildConnectionEquations() {
     }
     for (auto [v, outside] : {std::pair{p.a, p.aOutside}, std::pair{p.b, p.bOutside}}) {
       uint64_t k = key(v, outside);
-      if (!firstPair.count(k)) {
-        firstPair.emplace(k, i);
+      if (firstPair[k] == kNone) {
+        firstPair[k] = i;
         flowOrder.push_back(k);
       }
       if (!outside)
@@ -168,17 +170,19 @@ void Flattener::buildConnectionEquations() {
     flows.unite(key(p.a, p.aOutside), key(p.b, p.bOutside));
   }
   // One sum per flow set, at the connect that started it.
-  std::unordered_map<uint64_t, std::vector<uint64_t>> members;
-  std::vector<uint64_t> roots;
+  // Members grouped by set, each in order of first appearance: a set's
+  // index is the order in which its first member appeared.
+  std::vector<size_t> setOf(2 * nv, kNone);
+  std::vector<std::vector<uint64_t>> members;
   for (uint64_t k : flowOrder) {
     uint64_t r = flows.find(k);
-    auto &m = members[r];
-    if (m.empty())
-      roots.push_back(r);
-    m.push_back(k);
+    if (setOf[r] == kNone) {
+      setOf[r] = members.size();
+      members.emplace_back();
+    }
+    members[setOf[r]].push_back(k);
   }
-  for (uint64_t r : roots) {
-    const auto &m = members[r];
+  for (const std::vector<uint64_t> &m : members) {
     std::vector<ir::ExprRef> terms;
     size_t first = connectPairs_.size();
     for (uint64_t k : m) {

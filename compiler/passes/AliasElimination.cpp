@@ -19,6 +19,7 @@
 #include "ir/Substitute.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -75,41 +76,48 @@ bool isConstantTerm(ir::ExprRef e) {
 
 std::optional<AliasEquation> matchAlias(ir::ExprContext &ctx,
                                         ir::ExprRef residual, int eq) {
+  std::span<const ir::ExprRef> terms(&residual, 1);
   if (residual->kind() == ir::ExprKind::Add) {
-    // At most one term may be something other than +-variable.
+    // At most one term may be something other than +-variable, and at most
+    // two may be variables: more than three terms never match (a quick
+    // exit for the long sums of flow sets).
+    terms = residual->operands();
+    if (terms.size() > 3)
+      return std::nullopt;
     int others = 0;
-    for (ir::ExprRef t : residual->operands())
+    for (ir::ExprRef t : terms)
       others += unitVariable(t) ? 0 : 1;
     if (others > 1 || residual->numOperands() - others > 2)
       return std::nullopt;
   }
-  std::vector<ir::ExprRef> terms;
-  if (residual->kind() == ir::ExprKind::Add)
-    terms.assign(residual->operands().begin(), residual->operands().end());
-  else
-    terms.push_back(residual);
-  std::vector<std::pair<ir::VarId, double>> vars;
-  std::vector<ir::ExprRef> consts;
+  // Fixed capacity (at most three terms): this runs on every equation of
+  // every round.
+  std::array<std::pair<ir::VarId, double>, 3> vars;
+  std::array<ir::ExprRef, 3> consts;
+  size_t numVars = 0, numConsts = 0;
   for (ir::ExprRef t : terms) {
     if (auto v = unitVariable(t))
-      vars.push_back(*v);
+      vars[numVars++] = *v;
     else if (isConstantTerm(t))
-      consts.push_back(t);
+      consts[numConsts++] = t;
     else
       return std::nullopt;
   }
   AliasEquation ae{eq, 0, 0, std::nullopt, 0, nullptr, {-1, -1}};
-  if (vars.size() == 2 && consts.empty() && vars[0].first != vars[1].first) {
+  if (numVars == 2 && numConsts == 0 && vars[0].first != vars[1].first) {
     ae.a = vars[0].first;
     ae.sa = vars[0].second;
     ae.b = vars[1].first;
     ae.sb = vars[1].second;
     return ae;
   }
-  if (vars.size() == 1) {
+  if (numVars == 1) {
     ae.a = vars[0].first;
     ae.sa = vars[0].second;
-    ae.constant = consts.empty() ? ctx.zero() : ctx.add(consts);
+    ae.constant =
+        numConsts == 0
+            ? ctx.zero()
+            : ctx.add(std::span<const ir::ExprRef>(consts.data(), numConsts));
     return ae;
   }
   return std::nullopt;
