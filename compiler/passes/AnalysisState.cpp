@@ -5,6 +5,7 @@
 #include "ir/Print.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <numeric>
 
 namespace ldae::passes {
@@ -13,9 +14,21 @@ const std::vector<int> &AnalysisState::nameRanks() {
   const std::vector<ir::Variable> &vars = model.variables;
   if (nameRank.size() == vars.size())
     return nameRank; // variables are only ever appended, never renamed
+  // The first eight bytes of each name as a big-endian number (zero
+  // padded) order like the names themselves, and decide most comparisons
+  // without reading the strings.
+  std::vector<uint64_t> prefix(vars.size(), 0);
+  for (size_t v = 0; v < vars.size(); ++v) {
+    const std::string &n = vars[v].name;
+    for (size_t i = 0; i < 8; ++i)
+      prefix[v] = prefix[v] << 8 |
+                  (i < n.size() ? static_cast<unsigned char>(n[i]) : 0u);
+  }
   std::vector<ir::VarId> byName(vars.size());
   std::iota(byName.begin(), byName.end(), 0);
   std::sort(byName.begin(), byName.end(), [&](ir::VarId a, ir::VarId b) {
+    if (prefix[a] != prefix[b])
+      return prefix[a] < prefix[b];
     return vars[a].name < vars[b].name;
   });
   nameRank.assign(vars.size(), 0);
