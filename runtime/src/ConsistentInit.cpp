@@ -14,6 +14,7 @@
 // so the start vector moves only along T, by the smallest step in the
 // nominal-scaled norm within T.
 #include "ConsistentInit.h"
+#include "SparseLu.h"
 #include "WongSequence.h"
 
 #include <Eigen/LU>
@@ -28,16 +29,29 @@ namespace ldae::runtime {
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
-bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
-                     const double *yp) {
+namespace {
+
+/// Rank threshold of the index-1 test, relative to the largest pivot
+/// (dense) or as the reciprocal 1-norm condition estimate (sparse).
+constexpr double kIndexOneRankTol = 1e-12;
+
+/// Whether the start data leave the differential values alone: no initial
+/// equations, no fixed algebraic unknown.
+bool startDataAllowIndexOne(const ModelEval &ev, int set) {
+  const ldae_model &m = ev.model();
+  if (m.n_init > 0)
+    return false;
+  for (int i = 0; i < ev.n(); ++i)
+    if (!ev.set(set).is_differential[i] && m.fixed && m.fixed[i])
+      return false;
+  return true;
+}
+
+bool isPlainIndexOneDense(const ModelEval &ev, int set, double t,
+                          const double *y, const double *yp) {
   const ldae_model &m = ev.model();
   const ldae_state_set &s = ev.set(set);
   int n = ev.n();
-  if (m.n_init > 0)
-    return false;
-  for (int i = 0; i < n; ++i)
-    if (!s.is_differential[i] && m.fixed && m.fixed[i])
-      return false;
   MatrixXd Fy, E;
   if (ev.jacobianParts(set, t, y, yp, Fy, E) != 0)
     return false;
@@ -61,8 +75,175 @@ bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
   if (n == 0)
     return true;
   Eigen::FullPivLU<MatrixXd> lu(M);
-  lu.setThreshold(1e-12);
+  lu.setThreshold(kIndexOneRankTol);
   return lu.rank() == n;
+}
+
+/// The nominal-scaled index-1 iteration matrix M = [E_d D_d, F_a D_a]
+/// (differential columns from E, algebraic ones from F_y) in the shared
+/// pattern of Fy and E. False when E does not vanish on an algebraic
+/// column (relative to the largest entry of either): not index 1 in this
+/// form.
+bool indexOneMatrix(const ModelEval &ev, int set, const CscMatrix &Fy,
+                    const CscMatrix &E, CscMatrix &M) {
+  const ldae_model &m = ev.model();
+  const int *diff = ev.set(set).is_differential;
+  double scale = std::max({1e-300, E.maxAbs(), Fy.maxAbs()});
+  M = Fy;
+  for (int j = 0; j < M.n; ++j) {
+    double d = m.nominal ? m.nominal[j] : 1.0;
+    for (int q = M.colptr[j]; q < M.colptr[j + 1]; ++q) {
+      if (diff[j]) {
+        M.values[q] = E.values[q] * d;
+        continue;
+      }
+      if (std::fabs(E.values[q]) > 1e-14 * scale)
+        return false;
+      M.values[q] *= d;
+    }
+  }
+  return true;
+}
+
+/// Largest |entry| of each row of M, floored at 1e-8 max(1, max |M|): a
+/// residual is judged relative to its row's sensitivity to the scaled
+/// unknowns (as in the dense Newton below), and a row whose coefficients
+/// are round-off must not turn round-off residuals into large ones.
+std::vector<double> rowScales(const CscMatrix &M) {
+  std::vector<double> s(M.n, 0.0);
+  for (int q = 0; q < M.nnz(); ++q)
+    s[M.rowind[q]] = std::max(s[M.rowind[q]], std::fabs(M.values[q]));
+  double floor = 1e-8 * std::max(1.0, M.maxAbs());
+  for (double &v : s)
+    v = std::max(v, floor);
+  return s;
+}
+
+bool isPlainIndexOneSparse(const ModelEval &ev, int set, double t,
+                           const double *y, const double *yp) {
+  CscMatrix Fy, E, M;
+  if (ev.jacobianPartsCsc(set, t, y, yp, Fy, E) != 0 ||
+      !indexOneMatrix(ev, set, Fy, E, M))
+    return false;
+  // Equations in other units must not decide the rank: equilibrate the
+  // rows, then ask KLU for a factorization without a zero pivot and a
+  // condition estimate within the dense test's rank threshold.
+  std::vector<double> rs = rowScales(M);
+  for (int q = 0; q < M.nnz(); ++q)
+    M.values[q] /= rs[M.rowind[q]];
+  SparseLu lu;
+  return lu.factor(M) && lu.rcondEstimate() >= kIndexOneRankTol;
+}
+
+/// The common failure message when no consistent point was found.
+std::string noConsistentPoint(const std::string &rows, double best) {
+  return fmt::format(
+      "no consistent initial point: {} cannot be met (smallest residual "
+      "reached {:.3g}); check the start values, fixed values and initial "
+      "equations",
+      rows.empty() ? std::string("the equations") : rows, best);
+}
+
+std::string domainFailure(const std::string &what) {
+  return fmt::format("{} is outside its domain at the start values", what);
+}
+
+} // namespace
+
+bool usesSparseInit(const ModelEval &ev) {
+  return ev.n() > LDAE_DENSE_THRESHOLD;
+}
+
+bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
+                     const double *yp) {
+  if (!startDataAllowIndexOne(ev, set))
+    return false;
+  if (usesSparseInit(ev))
+    return isPlainIndexOneSparse(ev, set, t, y, yp);
+  return isPlainIndexOneDense(ev, set, t, y, yp);
+}
+
+InitOutcome initializeIndexOne(const ModelEval &ev, int set, double t,
+                               const std::vector<double> &y0,
+                               const std::vector<double> &yp0) {
+  const ldae_model &m = ev.model();
+  const int *diff = ev.set(set).is_differential;
+  int n = ev.n();
+  InitOutcome out;
+  out.index = 1;
+  for (int j = 0; j < n; ++j)
+    out.jumpDim += diff[j] ? 0 : 1;
+  std::vector<double> y = y0, yp = yp0, r(n), dx(n);
+  CscMatrix Fy, E, M;
+  SparseLu lu;
+  const double tol = 1e-10; // as the dense Newton's
+  double best = INFINITY;
+  std::vector<int> badRows;
+  for (int iter = 0; iter < 50; ++iter) {
+    int rc = ev.residual(set, t, y.data(), yp.data(), r.data());
+    if (rc == 0)
+      rc = ev.jacobianPartsCsc(set, t, y.data(), yp.data(), Fy, E);
+    if (rc) {
+      out.failure = domainFailure(rc > 0 ? ev.describeRow(rc - 1)
+                                         : std::string("the residual"));
+      return out;
+    }
+    if (!indexOneMatrix(ev, set, Fy, E, M)) {
+      out.failure = "the model lost its index-1 structure during the "
+                    "initialization's Newton iteration";
+      return out;
+    }
+    std::vector<double> rs = rowScales(M);
+    double res = 0;
+    badRows.clear();
+    for (int i = 0; i < n; ++i) {
+      double v = std::fabs(r[i]) / rs[i];
+      res = std::max(res, v);
+      if (v > tol)
+        badRows.push_back(i);
+    }
+    best = std::min(best, res);
+    if (!lu.factor(M)) {
+      int col = lu.singularColumn();
+      out.failure = fmt::format(
+          "the index-1 iteration matrix is singular{}",
+          col >= 0 ? fmt::format(" (at unknown '{}')", ev.varName(col)) : "");
+      break;
+    }
+    for (int i = 0; i < n; ++i)
+      dx[i] = -r[i];
+    if (!lu.solve(dx.data())) {
+      out.failure = "the index-1 linear solve failed";
+      break;
+    }
+    // M's columns are y' for differential and y for algebraic unknowns:
+    // the differential values stay (T holds only algebraic directions).
+    double step = 0;
+    for (int j = 0; j < n; ++j) {
+      double d = m.nominal ? m.nominal[j] : 1.0;
+      if (diff[j]) {
+        yp[j] += d * dx[j];
+      } else {
+        y[j] += d * dx[j];
+        step = std::max(step, std::fabs(dx[j]));
+      }
+    }
+    if (badRows.empty() && step <= tol) {
+      out.ok = true;
+      out.residual = res;
+      out.y = std::move(y);
+      out.yp = std::move(yp);
+      return out;
+    }
+  }
+  out.residual = best;
+  if (out.failure.empty()) {
+    std::string rows;
+    for (size_t i = 0; i < badRows.size() && i < 5; ++i)
+      rows += (i ? ", " : "") + ev.describeRow(badRows[i]);
+    out.failure = noConsistentPoint(rows, best);
+  }
+  return out;
 }
 
 namespace {
@@ -262,9 +443,7 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
         first = false;
       }
       if (!s.domainError.empty()) {
-        out.failure = fmt::format("{} is outside its domain at the start "
-                                  "values",
-                                  s.domainError);
+        out.failure = domainFailure(s.domainError);
         return out;
       }
       best = std::min(best, s.residual);
@@ -290,11 +469,7 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
   int levels = last.levels;
   for (size_t i = 0; i < last.badRows.size() && i < 5; ++i)
     rows += (i ? ", " : "") + newton.describe(last.badRows[i], levels);
-  out.failure = fmt::format(
-      "no consistent initial point: {} cannot be met (smallest residual "
-      "reached {:.3g}); check the start values, fixed values and initial "
-      "equations",
-      rows.empty() ? std::string("the equations") : rows, best);
+  out.failure = noConsistentPoint(rows, best);
   return out;
 }
 

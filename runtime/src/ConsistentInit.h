@@ -7,7 +7,10 @@
 //
 // For an index-1 state set (E zero on the algebraic columns, [E_d F_a]
 // nonsingular) T is just the algebraic coordinates; the simulator then lets
-// IDACalcIC do the work and does not call initializeAlongJumps.
+// IDACalcIC do the work and does not call initializeAlongJumps. Above
+// LDAE_DENSE_THRESHOLD unknowns that test and the index-1 Newton iteration
+// (initializeIndexOne, when IDACalcIC fails) work on the CSC Jacobian with
+// KLU: O(nnz)-ish instead of dense O(n^2) memory and O(n^3) time.
 #pragma once
 
 #include "ModelEval.h"
@@ -22,8 +25,16 @@ namespace ldae::runtime {
 /// and the start data leave the differential values alone (no initial
 /// equations, no fixed algebraic unknown), so IDACalcIC(IDA_YA_YDP_INIT)
 /// is exactly the rule.
+/// Above LDAE_DENSE_THRESHOLD unknowns on the CSC Jacobian (structural
+/// check of E's algebraic columns, KLU without a zero pivot, reciprocal
+/// condition estimate of the row-equilibrated matrix >= 1e-12); at or
+/// below it with a dense rank-revealing LU.
 bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
                      const double *yp);
+
+/// Whether isPlainIndexOne and initialization reports work sparsely (KLU)
+/// for this model: n > LDAE_DENSE_THRESHOLD.
+bool usesSparseInit(const ModelEval &ev);
 
 struct InitOutcome {
   bool ok = false;
@@ -35,7 +46,17 @@ struct InitOutcome {
   std::string failure;       ///< when !ok: which equations cannot be met
 };
 
-/// Newton iteration along T(E, F) (see the file comment). Logs warnings to
+/// For a state set with the plain index-1 structure: Newton iteration on
+/// the algebraic values and the differential derivatives with the sparse
+/// matrix [E_d D, F_a D] (KLU), the differential values kept. The same
+/// iterates and convergence test as initializeAlongJumps, whose T is the
+/// algebraic coordinates there, without its dense n x n matrices.
+InitOutcome initializeIndexOne(const ModelEval &ev, int set, double t,
+                               const std::vector<double> &y0,
+                               const std::vector<double> &yp0);
+
+/// Newton iteration along T(E, F) (see the file comment). Dense: meant for
+/// small systems and high-index ones. Logs warnings to
 /// `log` (may be null).
 InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
                                  const std::vector<double> &y0,

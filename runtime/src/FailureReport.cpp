@@ -1,5 +1,6 @@
 // Failure messages for IDA's error returns (see FailureReport.h).
 #include "FailureReport.h"
+#include "ConsistentInit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -72,10 +73,55 @@ FlagInfo flagInfo(int flag) {
   }
 }
 
+/// The (at most three) indices of the largest |u_i|, those above a tenth
+/// of the largest, largest first.
+std::vector<int> dominantRows(const Eigen::VectorXd &u) {
+  std::vector<int> rows;
+  double top = u.size() ? u.cwiseAbs().maxCoeff() : 0.0;
+  for (int i = 0; i < u.size(); ++i)
+    if (std::fabs(u(i)) > 0.1 * top)
+      rows.push_back(i);
+  std::sort(rows.begin(), rows.end(), [&](int a, int b) {
+    return std::fabs(u(a)) > std::fabs(u(b));
+  });
+  if (rows.size() > 3)
+    rows.resize(3);
+  return rows;
+}
+
+/// Sparse counterpart for large models (a dense SVD is O(n^3)): KLU on
+/// J^T. A zero pivot names a row of J directly; otherwise, when the
+/// condition estimate says singular, a few steps of inverse iteration with
+/// J^T approximate the left singular vector of the smallest singular value.
+std::vector<int> singularRowsSparse(const ModelEval &ev,
+                                    const IdaIntegrator &ida, double t) {
+  CscMatrix J;
+  if (ev.jacobianCsc(ida.set(), t, ida.y(), ida.yp(), ida.currentCj(), J) !=
+      0)
+    return {};
+  CscMatrix Jt = J.transposed();
+  SparseLu lu;
+  if (!lu.factor(Jt)) {
+    int row = lu.singularColumn();
+    return row >= 0 ? std::vector<int>{row} : std::vector<int>{};
+  }
+  if (lu.rcondEstimate() > 1e-10)
+    return {};
+  Eigen::VectorXd u = Eigen::VectorXd::Ones(J.n);
+  for (int it = 0; it < 3; ++it) {
+    if (!lu.solve(u.data()) || !u.allFinite() || u.norm() == 0)
+      return {};
+    u.normalize();
+  }
+  return dominantRows(u);
+}
+
 /// The rows a (near) singular iteration matrix singles out: the largest
 /// components of the left singular vector of its smallest singular value.
 std::vector<int> singularRows(const ModelEval &ev, const IdaIntegrator &ida,
                               double t) {
+  if (usesSparseInit(ev))
+    return singularRowsSparse(ev, ida, t);
   Eigen::MatrixXd J;
   double cj = ida.currentCj();
   if (ev.jacobian(ida.set(), t, ida.y(), ida.yp(), cj, J) != 0 || J.size() == 0)
@@ -84,16 +130,7 @@ std::vector<int> singularRows(const ModelEval &ev, const IdaIntegrator &ida,
   Eigen::VectorXd sv = svd.singularValues();
   if (sv(sv.size() - 1) > 1e-10 * sv(0))
     return {};
-  Eigen::VectorXd u = svd.matrixU().col(sv.size() - 1).cwiseAbs();
-  std::vector<int> rows;
-  for (int i = 0; i < u.size(); ++i)
-    if (u(i) > 0.1 * u.maxCoeff())
-      rows.push_back(i);
-  std::sort(rows.begin(), rows.end(),
-            [&](int a, int b) { return u(a) > u(b); });
-  if (rows.size() > 3)
-    rows.resize(3);
-  return rows;
+  return dominantRows(svd.matrixU().col(sv.size() - 1));
 }
 
 std::string worstVariables(const ModelEval &ev, const IdaIntegrator &ida) {

@@ -57,6 +57,77 @@ int ModelEval::jacobianParts(int k, double t, const double *y, const double *yp,
   return 0;
 }
 
+namespace {
+/// The nonzeros of dense matrices (the union of their patterns) as CSC
+/// matrices with one pattern.
+void denseToCsc(const std::vector<const Eigen::MatrixXd *> &dense,
+                const std::vector<CscMatrix *> &out) {
+  int n = int(dense[0]->cols());
+  for (CscMatrix *c : out) {
+    c->n = n;
+    c->colptr.assign(1, 0);
+    c->rowind.clear();
+    c->values.clear();
+  }
+  for (int c = 0; c < n; ++c) {
+    for (int r = 0; r < n; ++r) {
+      bool any = false;
+      for (const Eigen::MatrixXd *d : dense)
+        any |= (*d)(r, c) != 0;
+      if (!any)
+        continue;
+      for (size_t i = 0; i < out.size(); ++i) {
+        out[i]->rowind.push_back(r);
+        out[i]->values.push_back((*dense[i])(r, c));
+      }
+    }
+    for (CscMatrix *m : out)
+      m->colptr.push_back(int(m->rowind.size()));
+  }
+}
+
+void setPattern(const ldae_state_set &s, int n, CscMatrix &J) {
+  J.n = n;
+  J.colptr.assign(s.jac_colptr, s.jac_colptr + n + 1);
+  J.rowind.assign(s.jac_rowind, s.jac_rowind + s.jac_nnz);
+  J.values.assign(s.jac_nnz, 0.0);
+}
+} // namespace
+
+int ModelEval::jacobianCsc(int k, double t, const double *y, const double *yp,
+                           double cj, CscMatrix &J) const {
+  const ldae_state_set &s = set(k);
+  if (s.jacobian_csc && s.jac_colptr) {
+    setPattern(s, m_.n, J);
+    return s.jacobian_csc(t, y, yp, p_.data(), cj, J.values.data());
+  }
+  Eigen::MatrixXd D;
+  if (int rc = jacobian(k, t, y, yp, cj, D))
+    return rc;
+  denseToCsc({&D}, {&J});
+  return 0;
+}
+
+int ModelEval::jacobianPartsCsc(int k, double t, const double *y,
+                                const double *yp, CscMatrix &Fy,
+                                CscMatrix &E) const {
+  const ldae_state_set &s = set(k);
+  if (!(s.jacobian_csc && s.jac_colptr)) {
+    Eigen::MatrixXd DFy, DE;
+    if (int rc = jacobianParts(k, t, y, yp, DFy, DE))
+      return rc;
+    denseToCsc({&DFy, &DE}, {&Fy, &E});
+    return 0;
+  }
+  if (int rc = jacobianCsc(k, t, y, yp, 0.0, Fy))
+    return rc;
+  if (int rc = jacobianCsc(k, t, y, yp, 1.0, E))
+    return rc;
+  for (size_t q = 0; q < E.values.size(); ++q)
+    E.values[q] -= Fy.values[q];
+  return 0;
+}
+
 std::string ModelEval::varName(int i) const {
   if (m_.var_names && m_.var_names[i])
     return m_.var_names[i];

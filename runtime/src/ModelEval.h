@@ -4,6 +4,7 @@
 // neither), names and source locations for messages.
 #pragma once
 
+#include "SparseLu.h"
 #include "ldae/model.h"
 
 #include <Eigen/Dense>
@@ -33,6 +34,14 @@ public:
   /// dF/dy (cj = 0) and E = dF/dy' (from cj = 1 minus cj = 0).
   int jacobianParts(int k, double t, const double *y, const double *yp,
                     Eigen::MatrixXd &Fy, Eigen::MatrixXd &E) const;
+  /// J = dF_k/dy + cj dF_k/dy' in the set's CSC pattern (from the dense
+  /// Jacobian or difference quotients, keeping the nonzeros, when the set
+  /// has no CSC function: only hand-written models).
+  int jacobianCsc(int k, double t, const double *y, const double *yp,
+                  double cj, CscMatrix &J) const;
+  /// jacobianParts in one shared CSC pattern, O(nnz) for a CSC model.
+  int jacobianPartsCsc(int k, double t, const double *y, const double *yp,
+                       CscMatrix &Fy, CscMatrix &E) const;
 
   /// The unknown's name ("y[3]" when the model has none).
   std::string varName(int i) const;

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
+#include <string_view>
+#include <unordered_map>
 
 namespace ldae::runtime {
 
@@ -88,14 +90,46 @@ Error unknownNameError(const std::string &kind, const std::string &name,
 Expected<std::vector<int>>
 selectColumns(const std::vector<std::string> &available,
               const std::vector<std::string> &wanted) {
-  std::vector<int> idx;
-  for (const auto &w : wanted) {
-    auto it = std::find(available.begin(), available.end(), w);
-    if (it != available.end()) {
-      idx.push_back(int(it - available.begin()));
-      continue;
+  // Not a search per name: the driver asks for every output of the model
+  // by name, quadratic at 10^5 outputs. It asks in the model's order
+  // (leaving some out), so the few names after the last match are tried
+  // first; the others are found by binary search when the names are sorted
+  // (compiled models sort them) or else by a hash index, built once. A
+  // model's names are unique, so the match is the one a linear search
+  // would find.
+  enum { Unknown, Sorted, Hashed } lookup = Unknown;
+  std::unordered_map<std::string_view, size_t> index;
+  auto find = [&](const std::string &w) -> size_t {
+    if (lookup == Unknown) {
+      lookup = std::is_sorted(available.begin(), available.end()) ? Sorted
+                                                                  : Hashed;
+      if (lookup == Hashed) {
+        index.reserve(available.size());
+        for (size_t i = 0; i < available.size(); ++i)
+          index.emplace(available[i], i);
+      }
     }
-    return unknownNameError("output", w, available);
+    if (lookup == Sorted) {
+      auto it = std::lower_bound(available.begin(), available.end(), w);
+      return it != available.end() && *it == w ? size_t(it - available.begin())
+                                               : available.size();
+    }
+    auto it = index.find(w);
+    return it == index.end() ? available.size() : it->second;
+  };
+  size_t next = 0;
+  std::vector<int> idx;
+  idx.reserve(wanted.size());
+  for (const auto &w : wanted) {
+    size_t end = std::min(available.size(), next + 16), at = next;
+    while (at < end && available[at] != w)
+      ++at;
+    if (at == end)
+      at = find(w);
+    if (at == available.size())
+      return unknownNameError("output", w, available);
+    idx.push_back(int(at));
+    next = at + 1;
   }
   return idx;
 }

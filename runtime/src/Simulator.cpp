@@ -100,6 +100,25 @@ private:
   std::vector<double> out_, drift_;
 };
 
+/// Above this many unknowns the general initialization (dense Wong
+/// sequences and least squares on n x 2n matrices, O(n^3)) would need hours
+/// and gigabytes; it fails with a message instead.
+constexpr int kMaxDenseInitUnknowns = 10000;
+
+/// Hands a consistent point found by our own Newton iteration to IDA.
+bool adoptInitialPoint(const ModelEval &ev, IdaIntegrator &ida, int set,
+                       double t0, const std::vector<double> &y0,
+                       const InitOutcome &init, SimResult &res,
+                       std::ostream *log) {
+  reportMoves(ev, y0, init.y.data(), log);
+  auto re = ida.reinit(set, t0, init.y.data(), init.yp.data());
+  if (!re) {
+    res.failure = re.error();
+    return false;
+  }
+  return true;
+}
+
 /// Finds the initial point; returns false (with the failure filled in)
 /// when there is none.
 bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
@@ -117,6 +136,18 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
       reportMoves(ev, y, ida.y(), log);
       return true;
     }
+    if (usesSparseInit(ev)) {
+      // The same rule by our own Newton iteration (tighter tolerance, no
+      // dependence on the first output time), still sparse.
+      InitOutcome init = initializeIndexOne(ev, set, t0, y, yp);
+      if (init.ok) {
+        if (log)
+          *log << "initialization: IDACalcIC failed; index-1 Newton "
+                  "iteration (sparse) solved the algebraic values and "
+                  "derivatives\n";
+        return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
+      }
+    }
     if (log)
       *log << "initialization: IDACalcIC failed; trying Newton steps along "
               "the jump space\n";
@@ -125,6 +156,15 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
       res.failure = re.error();
       return false;
     }
+  }
+  if (n > kMaxDenseInitUnknowns) {
+    res.failure = fmt::format(
+        "initialization failed at t = {}: the model is not plain index-1 at "
+        "the start values (or has initial equations or fixed algebraic "
+        "values), and the general initialization along the jump space is "
+        "dense: {} unknowns are more than it handles ({})",
+        t0, n, kMaxDenseInitUnknowns);
+    return false;
   }
   InitOutcome init = initializeAlongJumps(ev, set, t0, y, yp, log);
   if (!init.ok) {
@@ -137,13 +177,7 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
                         "space T (dimension {}, index {}){}\n",
                         init.jumpDim, init.index,
                         init.nearestPoint ? "; nearest point used" : "");
-  reportMoves(ev, y, init.y.data(), log);
-  auto re = ida.reinit(set, t0, init.y.data(), init.yp.data());
-  if (!re) {
-    res.failure = re.error();
-    return false;
-  }
-  return true;
+  return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
 }
 
 /// Restarts IDA at the current point with state set `to`.

@@ -12,11 +12,15 @@
 //  - logDomain(): a model whose residual leaves its domain at t = 1.
 //  - index1Init(), index2Linear(): consistent-initialization examples.
 //  - decayChain(k): 2k unknowns, CSC Jacobian (exercises KLU when > 32).
+//  - coupledChain(k): 2k unknowns, nonlinear index 1 with the algebraic
+//    unknowns coupled along the chain, CSC Jacobian only (the sparse
+//    initialization).
 #pragma once
 
 #include "ldae/model.h"
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -422,45 +426,119 @@ inline int jacCsc(double, const double *, const double *, const double *p,
 }
 } // namespace chain_detail
 
+/// Storage of a chain model with a CSC Jacobian (2k unknowns, parameter
+/// k): each maker keeps one in static storage, as the other models' arrays.
+struct ChainStore {
+  std::vector<double> y0, yp0, nominal, params;
+  std::vector<int> fixed, diff, colptr, rowind;
+  ldae_state_set set{};
+
+  void reset(int k) {
+    int n = 2 * k;
+    y0.assign(n, 0.0);
+    yp0.assign(n, 0.0);
+    nominal.assign(n, 1.0);
+    fixed.assign(n, 0);
+    diff.assign(n, 0);
+    colptr.assign(1, 0);
+    rowind.clear();
+    params.assign(1, k);
+  }
+  /// Appends the next column of the pattern.
+  void column(std::initializer_list<int> rows) {
+    rowind.insert(rowind.end(), rows);
+    colptr.push_back(int(rowind.size()));
+  }
+  ldae_model model(const char *name, const char *const *names,
+                   ldae_residual_fn res, ldae_jacobian_csc_fn jac) {
+    set = ldae_state_set{};
+    set.is_differential = diff.data();
+    set.residual = res;
+    set.jacobian_csc = jac;
+    set.jac_nnz = int(rowind.size());
+    set.jac_colptr = colptr.data();
+    set.jac_rowind = rowind.data();
+    ldae_model m = makeModel(name, int(y0.size()), names, y0.data(),
+                             yp0.data(), nominal.data(), fixed.data(), &set);
+    m.n_params = 1;
+    m.param_values = params.data();
+    return m;
+  }
+};
+
 inline ldae_model decayChain(int k) {
-  static std::vector<double> y0, yp0, nominal, params(1);
-  static std::vector<int> fixed, diff, colptr, rowind;
+  static ChainStore store;
   static std::vector<std::string> nameStore;
   static std::vector<const char *> names;
-  static ldae_state_set set{};
-  int n = 2 * k;
-  y0.assign(n, 1.0);
-  yp0.assign(n, 0.0);
-  nominal.assign(n, 1.0);
-  fixed.assign(n, 0);
-  diff.assign(n, 0);
-  colptr.assign(n + 1, 0);
-  rowind.clear();
+  store.reset(k);
   nameStore.clear();
   names.clear();
-  params[0] = k;
   for (int i = 0; i < k; ++i) {
-    diff[2 * i] = 1;
-    fixed[2 * i] = 1;
+    store.y0[2 * i] = store.y0[2 * i + 1] = 1.0;
+    store.diff[2 * i] = 1;
+    store.fixed[2 * i] = 1;
     nameStore.push_back("y" + std::to_string(i + 1));
     nameStore.push_back("z" + std::to_string(i + 1));
-    rowind.insert(rowind.end(), {2 * i, 2 * i + 1, 2 * i, 2 * i + 1});
+    store.column({2 * i, 2 * i + 1});
+    store.column({2 * i, 2 * i + 1});
   }
-  for (int c = 0; c <= n; ++c)
-    colptr[c] = 2 * c;
   for (auto &s : nameStore)
     names.push_back(s.c_str());
-  set.is_differential = diff.data();
-  set.residual = chain_detail::res;
-  set.jacobian_csc = chain_detail::jacCsc;
-  set.jac_nnz = 4 * k;
-  set.jac_colptr = colptr.data();
-  set.jac_rowind = rowind.data();
-  ldae_model m = makeModel("DecayChain", n, names.data(), y0.data(), yp0.data(),
-                           nominal.data(), fixed.data(), &set);
-  m.n_params = 1;
-  m.param_values = params.data();
-  return m;
+  return store.model("DecayChain", names.data(), chain_detail::res,
+                     chain_detail::jacCsc);
+}
+
+// ---- A nonlinear index-1 chain with coupled algebraic unknowns ---------
+// Unknowns (y_i, z_i), i < k, a_i = 0.1 (i + 1):
+//   y_i' = -a_i z_i,
+//   0 = z_i + 0.5 tanh(z_i) - y_i^2 - 0.1 z_{i+1}   (no z_{i+1} for the last),
+// so the algebraic values form one bidiagonal nonlinear system along the
+// chain. Start y_i = 1 + 0.001 i, z = 0, y' = 0.
+namespace coupled_detail {
+inline int k(const double *p) { return int(p[0]); }
+inline int res(double, const double *y, const double *yp, const double *p,
+               double *r) {
+  int n = k(p);
+  for (int i = 0; i < n; ++i) {
+    double z = y[2 * i + 1], next = i + 1 < n ? y[2 * i + 3] : 0.0;
+    r[2 * i] = yp[2 * i] + 0.1 * (i + 1) * z;
+    r[2 * i + 1] =
+        z + 0.5 * std::tanh(z) - y[2 * i] * y[2 * i] - 0.1 * next;
+  }
+  return 0;
+}
+// CSC, rows sorted: column y_i has rows 2i (cj), 2i+1 (-2 y_i); column z_i
+// has row 2i-1 (-0.1, for i > 0), 2i (a_i), 2i+1 (1 + 0.5 sech^2 z_i).
+inline int jacCsc(double, const double *y, const double *, const double *p,
+                  double cj, double *v) {
+  int q = 0;
+  for (int i = 0; i < k(p); ++i) {
+    double th = std::tanh(y[2 * i + 1]);
+    v[q++] = cj;
+    v[q++] = -2 * y[2 * i];
+    if (i > 0)
+      v[q++] = -0.1;
+    v[q++] = 0.1 * (i + 1);
+    v[q++] = 1 + 0.5 * (1 - th * th);
+  }
+  return 0;
+}
+} // namespace coupled_detail
+
+inline ldae_model coupledChain(int k) {
+  static ChainStore store;
+  store.reset(k);
+  for (int i = 0; i < k; ++i) {
+    store.y0[2 * i] = 1 + 0.001 * i;
+    store.diff[2 * i] = 1;
+    store.column({2 * i, 2 * i + 1});
+    if (i > 0)
+      store.column({2 * i - 1, 2 * i, 2 * i + 1});
+    else
+      store.column({2 * i, 2 * i + 1});
+  }
+  return store.model("CoupledChain", nullptr, coupled_detail::res,
+                     coupled_detail::jacCsc);
 }
 
 } // namespace handmodels
