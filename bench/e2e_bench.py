@@ -176,7 +176,7 @@ def main():
             print("ladder N=%d jit=%s %s" % (n, jit, r), flush=True)
             rows.append((n, jit, r))
     chart(rows, os.path.join(DOCS, "e2e_compile_time.png"))
-    write_section(rob, pend, rows)
+    write_e2e_section(rob, pend, rows)
 
 
 def ladder_findings(rows):
@@ -204,7 +204,7 @@ def ladder_findings(rows):
              "\n".join("- " + l for l in lines)))
 
 
-def write_section(rob, pend, rows):
+def write_e2e_section(rob, pend, rows):
     stepdiff = 100.0 * (rob["steps"] - rob["their_steps"]) / rob["their_steps"]
     ratio = rob["us"] / rob["their_us"]
     table = "\n".join(
