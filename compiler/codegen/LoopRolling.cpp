@@ -103,10 +103,9 @@ private:
     return true;
   }
 
+  /// Only finished nodes get a local index, so clearing `nodes` suffices.
   void reset(const std::vector<uint32_t> &nodes) {
     for (uint32_t k : nodes)
-      local_[k] = -1;
-    for (auto &[k, next] : stack_)
       local_[k] = -1;
   }
 
@@ -236,7 +235,7 @@ void rollReductions(PlanFunction &fn) {
   std::vector<uint32_t> chain;
   std::vector<Cone> cones;
   for (uint32_t top = 0; top < fn.nodes.size(); ++top) {
-    if (!isSum(top) || (isSum(top) && continues(top)))
+    if (!isSum(top) || continues(top))
       continue;
     chain.clear();
     for (uint32_t c = top;; c = fn.nodes[c].a) {
