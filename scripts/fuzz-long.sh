@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The long mutation run: 10^5 stage runs (20000 mutants) of the mutation
+# test (tests/fuzz/mutate.py) with a seed other than CI's, against the
+# ldaec of build-fuzz/ (configured and built if needed).
+#   scripts/fuzz-long.sh [COUNT] [SEED]     defaults: 100000 2
+# Failing mutants are kept in build-fuzz/tests/fuzz/long-SEED/mutants/;
+# about 1.5 hours on two cores for 10^5.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+count=${1:-100000}
+seed=${2:-2}
+build=build-fuzz
+if [ ! -f $build/build.ninja ]; then
+  cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
+fi
+cmake --build $build --target ldaec
+python3 tests/fuzz/mutate.py --ldaec $build/compiler/driver/ldaec \
+  --source-dir . --work-dir $build/tests/fuzz/long-$seed \
+  --count "$count" --seed "$seed" --jobs "${JOBS:-2}"
