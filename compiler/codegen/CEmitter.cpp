@@ -455,8 +455,21 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << number(plan.tolerance) << ", " << number(plan.interval) << "\n};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
-  if (withMain)
+  if (withMain) {
+    // What the main's --param re-evaluates (see CodePlan::bind).
+    os << "\n#define ldae_main_bind " << fnRef(plan.bind) << "\n"
+       << "static const int ldae_main_n_bound = " << plan.boundParams.size()
+       << ";\n"
+       << "static const int ldae_main_n_bound_starts = "
+       << plan.boundStarts.size() << ";\n"
+       << "static const int ldae_main_bind_passes = " << plan.bindPasses
+       << ";\n";
+    printArray(os, "int", "ldae_main_bound_params", plan.boundParams, integer);
+    printArray(os, "int", "ldae_main_bound_starts", plan.boundStarts, integer);
+    printArray(os, "int", "ldae_main_structural", plan.structuralParams,
+               integer);
     os << "\n" << kIdaMainText;
+  }
   return os.str();
 }
 

@@ -553,6 +553,66 @@ std::string cIdentifier(const std::string &s) {
 
 } // namespace
 
+/// Fills the binding tables of `plan` (see CodePlan::bind) and returns the
+/// expressions of the bind function in their output order.
+static std::vector<ExprRef> planBindings(const ir::DaeSystem &sys,
+                                         CodePlan &plan) {
+  std::vector<ExprRef> values;
+  const unsigned np = plan.paramValues.size();
+  plan.structuralParams.assign(np, 0);
+  if (!sys.model)
+    return values;
+  const std::vector<ir::Parameter> &params = sys.model->parameters;
+  auto binding = [&](unsigned p) {
+    return p < params.size() ? params[p].binding : nullptr;
+  };
+  // A parameter read by a structural one is structural too.
+  std::vector<unsigned> work;
+  for (unsigned p = 0; p < np && p < params.size(); ++p)
+    if (params[p].structural) {
+      plan.structuralParams[p] = 1;
+      work.push_back(p);
+    }
+  while (!work.empty()) {
+    unsigned p = work.back();
+    work.pop_back();
+    if (ExprRef b = binding(p))
+      for (ir::ParamId q : ir::freeParameters(b))
+        if (q < np && !plan.structuralParams[q]) {
+          plan.structuralParams[q] = 1;
+          work.push_back(q);
+        }
+  }
+  // Depth of each binding chain: a pass of the bind function settles one
+  // level. Bindings form no cycle (the frontend rejects those).
+  std::vector<int> depth(np, -1);
+  auto depthOf = [&](auto &self, unsigned p) -> int {
+    if (depth[p] >= 0)
+      return depth[p];
+    int d = 0;
+    if (ExprRef b = binding(p)) {
+      depth[p] = 0; // guards a cycle the frontend missed
+      for (ir::ParamId q : ir::freeParameters(b))
+        if (q < np)
+          d = std::max(d, self(self, q) + 1);
+    }
+    return depth[p] = d;
+  };
+  for (unsigned p = 0; p < np; ++p)
+    if (ExprRef b = binding(p); b && !plan.structuralParams[p]) {
+      plan.boundParams.push_back(p);
+      plan.bindPasses =
+          std::max<unsigned>(plan.bindPasses, depthOf(depthOf, p));
+      values.push_back(b);
+    }
+  for (unsigned i = 0; i < sys.unknowns.size(); ++i)
+    if (ExprRef b = sys.unknowns[i].startBinding) {
+      plan.boundStarts.push_back(i);
+      values.push_back(b);
+    }
+  return values;
+}
+
 Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                                const PlanOptions &opts) {
   const unsigned n = sys.unknowns.size();
@@ -607,7 +667,8 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
     for (const SourceLoc &loc : sys.residualLocs)
       plan.residualOrigin.push_back(
           loc.valid() ? opts.sources->path(loc.file) + ":" +
-                            std::to_string(loc.line)
+                            std::to_string(loc.line) + ":" +
+                            std::to_string(loc.col)
                       : std::string("<generated>"));
     plan.residualOrigin.resize(n, "<generated>");
   }
@@ -722,6 +783,10 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   plan.outputs = valuesFunction("outputs", outs, keys);
   plan.nDrift = sys.constraints.size();
   plan.drift = valuesFunction("drift", sys.constraints, keys);
+  if (opts.bindings) {
+    std::vector<ExprRef> values = planBindings(sys, plan);
+    plan.bind = valuesFunction("bind", values, keys);
+  }
 
   if (!error.empty())
     return Error{error};

@@ -171,6 +171,20 @@ struct CodePlan {
   std::vector<double> startY, startYp, nominal, paramValues;
   std::vector<int> fixed;
   double startTime, stopTime, tolerance, interval; // NaN when unset
+
+  /// Parameter bindings, for programs that change a parameter without
+  /// recompiling (the emitted main's --param); filled when
+  /// PlanOptions::bindings is set. `bind` (FnSig::Values) writes the
+  /// binding of boundParams[j] at out[j], then the start value of unknown
+  /// boundStarts[k] at out[boundParams.size() + k], each over the current
+  /// p. Applying the parameter part bindPasses times settles every chain of
+  /// bindings.
+  int bind = -1;
+  std::vector<int> boundParams, boundStarts;
+  unsigned bindPasses = 0;
+  /// Per parameter: 1 if its value fixed the model's structure at compile
+  /// time (directly or through a parameter bound to it).
+  std::vector<int> structuralParams;
 };
 
 struct PlanOptions {
@@ -181,6 +195,9 @@ struct PlanOptions {
   bool loops = true;
   /// Resolves residual locations to "file:line" (optional).
   const class ldae::SourceManager *sources = nullptr;
+  /// Plan the parameter bindings (CodePlan::bind); only a program that
+  /// re-binds parameters needs them.
+  bool bindings = false;
 };
 
 /// Lowers `sys` (validated against the layout rule) into a code plan,

@@ -12,6 +12,7 @@
 
 namespace ldae {
 class SourceManager;
+class DiagnosticEngine;
 }
 
 namespace ldae::codegen {
@@ -47,5 +48,10 @@ Expected<std::string> emitLlvm(const ir::DaeSystem &sys,
 /// `main` integrating the model with IDA (docs/embedding-c.md).
 Expected<std::string> emitC(const ir::DaeSystem &sys, bool withMain,
                             const CodegenOptions &opts = {});
+
+/// Whether the main `emitC` writes can run `sys` as the model says: it
+/// starts from the start values with IDACalcIC, so initial equations would
+/// be dropped. Reports each one it cannot honour (never silently drops).
+bool checkEmittedMain(const ir::DaeSystem &sys, DiagnosticEngine &diags);
 
 } // namespace ldae::codegen

@@ -191,6 +191,15 @@ public:
   /// The numeric value of a lowered scalar that must not depend on
   /// variables or time; nullopt if it does (nothing reported).
   std::optional<double> constantValue(ir::ExprRef e);
+  /// The value of a parameter binding or a `start` attribute: like
+  /// constantValue, but the parameters it reads stay changeable (see
+  /// ir::Parameter::structural).
+  std::optional<double> bindingValue(ir::ExprRef e) {
+    readingBinding_ = true;
+    std::optional<double> v = constantValue(e);
+    readingBinding_ = false;
+    return v;
+  }
   /// The value of a modifier (its element `mod.index`); memoized.
   std::optional<Value> lowerModValue(const Mod &mod);
   /// `for` iterator ranges: the values of `range`, which must be constant.
@@ -345,6 +354,7 @@ private:
            Value>
       modValueCache_;
   bool budgetReported_ = false;
+  bool readingBinding_ = false; // see bindingValue
   std::set<std::string> reported_;
   Diagnostic dropped_;
 

@@ -504,9 +504,12 @@ void Flattener::createLeafSlots(InstNode &node) {
 
 namespace {
 /// A scalar number out of a modifier value, with the errors for strings
-/// and arrays.
+/// and arrays. With `binding`, the value is a binding an emitted program may
+/// re-evaluate: `*binding` gets its expression when it reads parameters.
+/// Without, the parameters it reads become structural.
 std::optional<double> scalarNumber(Flattener &f, const Mod &mod,
-                                   const std::string &what) {
+                                   const std::string &what,
+                                   ir::ExprRef *binding = nullptr) {
   std::optional<Value> v = f.lowerModValue(mod);
   if (!v)
     return std::nullopt;
@@ -520,10 +523,13 @@ std::optional<double> scalarNumber(Flattener &f, const Mod &mod,
                      {what, "a scalar", describeShape(v->shape)});
     return std::nullopt;
   }
-  std::optional<double> c = f.constantValue(v->scalarExpr());
+  ir::ExprRef e = v->scalarExpr();
+  std::optional<double> c = binding ? f.bindingValue(e) : f.constantValue(e);
   if (!c)
     f.report(DiagId::ErrNotConstant, SourceRange{mod.loc, mod.length},
                      {what});
+  else if (binding && !e->isConstant())
+    *binding = e;
   return c;
 }
 } // namespace
@@ -540,13 +546,15 @@ void Flattener::createParameter(InstNode &node, const std::string &name,
   std::string what = "value of '" + name + "'";
   bool haveValue = false;
   if (mod && mod->value) {
-    if (std::optional<double> v = scalarNumber(*this, *mod, what)) {
+    if (std::optional<double> v =
+            scalarNumber(*this, *mod, what, &p.binding)) {
       p.value = *v;
       haveValue = true;
     }
   } else if (ModPtr start = mod ? mod->sub("start") : nullptr;
              start && start->value) {
-    if (std::optional<double> v = scalarNumber(*this, *start, what))
+    if (std::optional<double> v =
+            scalarNumber(*this, *start, what, &p.binding))
       p.value = *v;
     haveValue = true;
   }
@@ -557,6 +565,7 @@ void Flattener::createParameter(InstNode &node, const std::string &name,
       report(DiagId::ErrOverrideConstant, p.loc, {name});
     else {
       p.value = ov->second.first;
+      p.binding = nullptr;
       haveValue = true;
     }
   }
@@ -582,14 +591,16 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
   v.isDiscrete = v.isInteger || v.isBoolean ||
                  node.variability == ast::Variability::Discrete;
   if (mod) {
-    auto attr = [&](const char *key) -> std::optional<double> {
+    auto attr = [&](const char *key,
+                    ir::ExprRef *binding = nullptr) -> std::optional<double> {
       ModPtr a = mod->sub(key);
       if (!a || !a->value)
         return std::nullopt;
       return scalarNumber(*this, *a,
-                          std::string("attribute '") + key + "' of '" + name + "'");
+                          std::string("attribute '") + key + "' of '" + name + "'",
+                          binding);
     };
-    if (auto s = attr("start")) {
+    if (auto s = attr("start", &v.startBinding)) {
       v.start = *s;
       v.hasStart = true;
     }

@@ -77,7 +77,12 @@ std::optional<double> Flattener::constantValue(ir::ExprRef e) {
     return 0.0;
   };
   env.parameter = [&](ir::ParamId p) {
-    return p < model_->parameters.size() ? model_->parameters[p].value : 0.0;
+    if (p >= model_->parameters.size())
+      return 0.0;
+    // Outside a binding, a value read now decides the model's structure.
+    if (!readingBinding_)
+      model_->parameters[p].structural = true;
+    return model_->parameters[p].value;
   };
   Expected<double> r = ir::evaluate(e, env, model_.get());
   if (!r || dependsOnVariable)

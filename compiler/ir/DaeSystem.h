@@ -24,6 +24,7 @@ struct SystemUnknown {
   std::string name;    // `x`, `der(x)` for a dummy derivative
   bool differential = false;
   double start = 0;    // start value of y[i]
+  ExprRef startBinding = nullptr; // `start` over parameters (null: literal)
   double startDerivative = 0; // start value of y'[i]
   double nominal = 1;
   bool fixed = false;  // start value is a condition (fixed = true)

@@ -31,6 +31,9 @@ struct Variable {
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();
   StateSelect stateSelect = StateSelect::Default;
+  /// The `start` expression when it reads parameters (null for a literal):
+  /// an emitted program re-evaluates it when a parameter is changed.
+  ExprRef startBinding = nullptr;
   std::string unit;
   bool isInput = false;
   bool isOutput = false;
@@ -48,6 +51,13 @@ struct Parameter {
   bool isConstant = false; // `constant`: cannot be overridden
   bool isInteger = false;
   bool isBoolean = false;
+  /// The binding expression when it reads other parameters (null for a
+  /// literal or a command-line override): `value` is its value, and an
+  /// emitted program re-evaluates it when a parameter it reads is changed.
+  ExprRef binding = nullptr;
+  /// The value fixed the model's structure at compile time (an array size,
+  /// a branch chosen, a subscript): it cannot change without recompiling.
+  bool structural = false;
 };
 
 /// Where an equation came from, for messages and for alias elimination.

@@ -415,6 +415,10 @@ int AliasEliminator::eliminateOnce() {
                           ir::printNumber(rv.start)});
         } else if (!rv.hasStart || (av.fixed && !rv.fixed)) {
           rv.start = st;
+          rv.startBinding =
+              !av.startBinding || sg == 1
+                  ? av.startBinding
+                  : ctx.mul(ctx.constant(sg), av.startBinding);
           rv.hasStart = true;
           rv.fixed = rv.fixed || av.fixed;
         }

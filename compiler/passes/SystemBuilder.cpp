@@ -111,6 +111,7 @@ bool buildSystem(AnalysisState &s) {
       u.key = slots[j].keys[k];
       u.name = m.variableName(ir::VarKey{s.unknowns[j], slots[j].orders[k]});
       u.start = slots[j].orders[k] == 0 ? var.start : 0.0;
+      u.startBinding = slots[j].orders[k] == 0 ? var.startBinding : nullptr;
       u.nominal = var.nominal;
       u.fixed = slots[j].orders[k] == 0 && var.fixed;
       u.loc = var.loc;
