@@ -1,8 +1,10 @@
 // The ldaec command: the whole pipeline, top to bottom, in one place.
 //   parse/flatten -> passes -> codegen -> runtime
-// Exit codes: 0 success, 1 the model is wrong, 2 bad command line,
-// 3 numerical failure during simulation.
+// Exit codes (docs/exit-codes.md): 0 success, 1 the model is wrong (or
+// out of memory), 2 bad command line, 3 numerical failure during
+// simulation.
 #include "Options.h"
+#include "Validate.h"
 
 #include "frontend/Frontend.h"
 #include "codegen/Codegen.h"
@@ -47,7 +49,7 @@ static int reportError(DiagnosticEngine &diags, DiagId id,
   return rc;
 }
 
-int main(int argc, char **argv) {
+static int run(int argc, char **argv) {
   driver::Options opts;
   CLI::App app;
   app.set_version_flag("--version", std::string("ldaec ") + LDAEC_VERSION);
@@ -57,6 +59,15 @@ int main(int argc, char **argv) {
   } catch (const CLI::ParseError &e) {
     int rc = app.exit(e);
     return rc == 0 ? 0 : 2;
+  }
+  {
+    // A bad command line costs no work: checked before the model is read.
+    SourceManager noSources;
+    DiagnosticEngine cmdDiags(noSources);
+    bool ok = driver::checkCommandLine(app, opts, cmdDiags);
+    cmdDiags.flush(std::cerr);
+    if (!ok)
+      return 2;
   }
 
   // 1. Parse, check and flatten the model.
@@ -75,8 +86,14 @@ int main(int argc, char **argv) {
   std::unique_ptr<ir::Model> model =
       frontend::compileFile(opts.input, feOpts, sources, diags);
   diags.flush(std::cerr);
+  if (driver::hasCommandLineError(diags))
+    return 2; // --model or --param named nothing in the file
   if (!model)
     return 1;
+  bool outputsExist = driver::checkAgainstModel(opts, *model, diags);
+  diags.flush(std::cerr);
+  if (!outputsExist)
+    return 2;
 
   // 2. As many equations as unknowns: required to simulate or emit,
   // reported (as a warning) by --analyze, which diagnoses any model.
@@ -94,14 +111,7 @@ int main(int argc, char **argv) {
   // 3. Structural analysis, index reduction, initialization (passes).
   passes::PipelineOptions passOpts;
   passOpts.method = opts.method == "raw" ? "raw" : "dd";
-  for (size_t at = 0; at < opts.outputs.size();) {
-    size_t comma = opts.outputs.find(',', at);
-    if (comma == std::string::npos)
-      comma = opts.outputs.size();
-    if (comma > at)
-      passOpts.outputs.push_back(opts.outputs.substr(at, comma - at));
-    at = comma + 1;
-  }
+  passOpts.outputs = driver::splitOutputs(opts.outputs);
   passOpts.timePasses = opts.timePasses;
   passOpts.printAfter = opts.printAfter;
   passOpts.log = &std::cerr;
@@ -215,4 +225,21 @@ int main(int argc, char **argv) {
     runtime::printStats(result->stats, std::cerr);
   }
   return rc;
+}
+
+int main(int argc, char **argv) {
+  // Nothing may end in an abort trace: running out of memory (a model too
+  // large for this machine) and any other escaping exception end with one
+  // line and exit 1 (docs/exit-codes.md).
+  SourceManager noSources;
+  DiagnosticEngine diags(noSources);
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc &) {
+    std::cout.flush();
+    return reportError(diags, DiagId::ErrOutOfMemory, "", 1);
+  } catch (const std::exception &e) {
+    std::cout.flush();
+    return reportError(diags, DiagId::ErrInternalException, e.what(), 1);
+  }
 }

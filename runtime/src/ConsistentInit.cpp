@@ -186,6 +186,10 @@ InitOutcome initializeIndexOne(const ModelEval &ev, int set, double t,
     if (rc) {
       out.failure = domainFailure(rc > 0 ? ev.describeRow(rc - 1)
                                          : std::string("the residual"));
+      if (rc > 0) {
+        out.domainRow = rc - 1;
+        out.domainY = y;
+      }
       return out;
     }
     if (!indexOneMatrix(ev, set, Fy, E, M)) {
@@ -257,6 +261,7 @@ struct StepResult {
   std::vector<int> badRows;
   int jumpDim = 0, index = 0, levels = 0;
   std::string domainError;
+  int domainRow = -1; // residual row of the domain error, if one
 };
 
 class Newton {
@@ -276,11 +281,13 @@ public:
     VectorXd r(n_), g(ni), rt(n_);
     if (int rc = ev_.residual(set_, t_, y.data(), yp.data(), r.data())) {
       res.domainError = rc > 0 ? ev_.describeRow(rc - 1) : "the residual";
+      res.domainRow = rc - 1;
       return res;
     }
     MatrixXd Fy, E, Gy(ni, n_), Gyp(ni, n_);
     if (int rc = ev_.jacobianParts(set_, t_, y.data(), yp.data(), Fy, E)) {
       res.domainError = rc > 0 ? ev_.describeRow(rc - 1) : "the Jacobian";
+      res.domainRow = rc - 1;
       return res;
     }
     if (ni > 0) {
@@ -444,6 +451,10 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
       }
       if (!s.domainError.empty()) {
         out.failure = domainFailure(s.domainError);
+        if (s.domainRow >= 0) {
+          out.domainRow = s.domainRow;
+          out.domainY.assign(y.data(), y.data() + n);
+        }
         return out;
       }
       best = std::min(best, s.residual);

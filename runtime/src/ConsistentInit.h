@@ -44,6 +44,8 @@ struct InitOutcome {
   bool nearestPoint = false; ///< fell back to the nominal-scaled nearest point
   double residual = 0;       ///< smallest max |residual| reached
   std::string failure;       ///< when !ok: which equations cannot be met
+  int domainRow = -1;        ///< when !ok: residual row of a domain error
+  std::vector<double> domainY; ///< the unknowns at that domain error
 };
 
 /// For a state set with the plain index-1 structure: Newton iteration on

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <fstream>
 #include <ida/ida.h>
 #include <numeric>
 
@@ -133,6 +134,62 @@ std::vector<int> singularRows(const ModelEval &ev, const IdaIntegrator &ida,
   return dominantRows(svd.matrixU().col(sv.size() - 1));
 }
 
+/// Splits "file:line[:col]" (the file may contain ':').
+void splitOrigin(const std::string &origin, std::string &file, int &line,
+                 int &col) {
+  auto number = [](const std::string &t) {
+    return !t.empty() && t.size() < 9 &&
+           std::all_of(t.begin(), t.end(), [](char c) {
+             return c >= '0' && c <= '9';
+           });
+  };
+  file = origin;
+  line = col = 0;
+  size_t last = origin.rfind(':');
+  if (last == std::string::npos || !number(origin.substr(last + 1)))
+    return;
+  size_t prev = origin.rfind(':', last - 1);
+  if (last > 0 && prev != std::string::npos &&
+      number(origin.substr(prev + 1, last - prev - 1))) {
+    file = origin.substr(0, prev);
+    line = std::stoi(origin.substr(prev + 1, last - prev - 1));
+    col = std::stoi(origin.substr(last + 1));
+  } else {
+    file = origin.substr(0, last);
+    line = std::stoi(origin.substr(last + 1));
+  }
+}
+
+/// Line `line` (1-based) of `file`, or "" when it cannot be read. Only
+/// reached on failure, so reading the file again costs nothing that matters.
+std::string sourceLine(const std::string &file, int line) {
+  std::ifstream in(file);
+  std::string text;
+  for (int i = 0; i < line && std::getline(in, text); ++i)
+    if (i == line - 1)
+      return text;
+  return "";
+}
+
+/// Unknowns whose column of the state set's Jacobian pattern has `row`.
+std::vector<int> unknownsRead(const ModelEval &ev, int set, int row) {
+  const ldae_state_set &s = ev.set(set);
+  std::vector<int> cols;
+  if (!s.jac_colptr || !s.jac_rowind)
+    return cols;
+  for (int c = 0; c < ev.n(); ++c)
+    for (int q = s.jac_colptr[c]; q < s.jac_colptr[c + 1]; ++q)
+      if (s.jac_rowind[q] == row) {
+        cols.push_back(c);
+        break;
+      }
+  return cols;
+}
+
+/// At most this many values are listed: the equation is short, a long
+/// list would hide the message.
+constexpr size_t kMaxValuesListed = 8;
+
 std::string worstVariables(const ModelEval &ev, const IdaIntegrator &ida) {
   std::vector<double> err = ida.weightedErrors();
   std::vector<int> order(err.size());
@@ -152,6 +209,44 @@ std::string worstVariables(const ModelEval &ev, const IdaIntegrator &ida) {
 
 } // namespace
 
+std::string describeDomainRow(const ModelEval &ev, int set, int row,
+                              const double *y) {
+  std::string origin = ev.origin(row), file;
+  int line = 0, col = 0;
+  splitOrigin(origin, file, line, col);
+  std::string msg = "\n  in " + ev.describeRow(row);
+  std::string text = line > 0 ? sourceLine(file, line) : "";
+  if (!text.empty()) {
+    // Tabs keep their width under the caret.
+    std::string pad;
+    for (int i = 0; i + 1 < col && i < int(text.size()); ++i)
+      pad += text[i] == '\t' ? '\t' : ' ';
+    msg += "\n    " + text + "\n    " + pad + "^";
+  }
+  if (!y)
+    return msg;
+  std::vector<int> cols = unknownsRead(ev, set, row);
+  std::string values;
+  for (size_t i = 0; i < cols.size() && i < kMaxValuesListed; ++i)
+    values += fmt::format("{}'{}' = {:.10g}", i ? ", " : "",
+                          ev.varName(cols[i]), y[cols[i]]);
+  if (cols.size() > kMaxValuesListed)
+    values += fmt::format(", ... ({} more)", cols.size() - kMaxValuesListed);
+  if (!values.empty())
+    msg += "\n  values: " + values;
+  return msg;
+}
+
+std::string describeInitDomainError(const ModelEval &ev, int set, int row,
+                                    const double *y, double t) {
+  return fmt::format("initialization failed at t = {:.10g}: an equation is "
+                     "outside its domain (e.g. sqrt or log of a negative "
+                     "number) at the start values",
+                     t) +
+         describeDomainRow(ev, set, row, y) +
+         "\n  hint: check the start values and parameters";
+}
+
 std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
                             int flag, double t) {
   FlagInfo info = flagInfo(flag);
@@ -160,16 +255,15 @@ std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
   std::string worst = worstVariables(ev, ida);
   if (!worst.empty())
     msg += "\n  largest local errors: " + worst;
-  std::vector<int> rows;
   if ((flag == IDA_RES_FAIL || flag == IDA_REP_RES_ERR ||
        flag == IDA_CONV_FAIL || flag == kStepCollapsed) &&
       ida.lastDomainRow() >= 0)
-    rows.push_back(ida.lastDomainRow());
+    msg += describeDomainRow(ev, ida.set(), ida.lastDomainRow(),
+                             ida.lastDomainY());
   else if (flag == IDA_LSETUP_FAIL || flag == IDA_CONV_FAIL ||
            flag == IDA_LSOLVE_FAIL)
-    rows = singularRows(ev, ida, t);
-  for (int r : rows)
-    msg += "\n  in " + ev.describeRow(r);
+    for (int r : singularRows(ev, ida, t))
+      msg += describeDomainRow(ev, ida.set(), r, ida.y());
   msg += fmt::format("\n  hint: {}", info.hint);
   return msg;
 }
@@ -181,7 +275,8 @@ std::string describeInitFailure(const ModelEval &ev, const IdaIntegrator &ida,
       "found (IDACalcIC: {})",
       t, flagInfo(flag).name);
   if (ida.lastDomainRow() >= 0)
-    msg += "\n  in " + ev.describeRow(ida.lastDomainRow());
+    return describeInitDomainError(ev, ida.set(), ida.lastDomainRow(),
+                                   ida.lastDomainY(), t);
   msg += "\n  hint: check the start values";
   return msg;
 }

@@ -15,6 +15,18 @@ namespace ldae::runtime {
 /// domain boundary).
 inline constexpr int kStepCollapsed = -1000;
 
+/// The report of a domain error (sqrt or log of a negative number...) in
+/// residual row `row` of state set `set` at the unknowns `y` (may be null):
+/// the equation's location (file:line:col), its source line with a caret,
+/// and the values of the unknowns it reads, each on a line of its own
+/// starting with "\n  ". The one form for initialization and the run.
+std::string describeDomainRow(const ModelEval &ev, int set, int row,
+                              const double *y);
+
+/// The whole message of a domain error met while initializing at `t`.
+std::string describeInitDomainError(const ModelEval &ev, int set, int row,
+                                    const double *y, double t);
+
 /// Describes the failure of IDASolve with `flag` (< 0) at time `t`.
 std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
                             int flag, double t);

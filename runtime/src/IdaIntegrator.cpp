@@ -27,6 +27,8 @@ int residualFn(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void *user) {
     // A domain error: recoverable, IDA retries with a smaller step. Remember
     // the row so the failure message can name the equation.
     d->domainRow = rc - 1;
+    const double *py = N_VGetArrayPointer(y);
+    d->domainY.assign(py, py + d->ev->n());
     return 1;
   }
   return rc < 0 ? -1 : 0;

@@ -63,6 +63,10 @@ public:
   double currentCj() const;
   /// Residual row of the last domain error (-1: none).
   int lastDomainRow() const { return data_.domainRow; }
+  /// The unknowns at that domain error (null: none).
+  const double *lastDomainY() const {
+    return data_.domainY.empty() ? nullptr : data_.domainY.data();
+  }
   /// The last message IDA wanted to print (we silence IDA's printing).
   const std::string &idaMessage() const { return data_.idaMessage; }
 
@@ -71,6 +75,7 @@ public:
     const ModelEval *ev = nullptr;
     int set = 0;
     int domainRow = -1;
+    std::vector<double> domainY; // y where the domain error happened
     std::string idaMessage;
   };
 

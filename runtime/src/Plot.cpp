@@ -1,36 +1,82 @@
 // Plots with gnuplot (see Plot.h). gnuplot reads a data file and a script
-// that we write beside the picture, so a user can re-run or edit them.
+// that we write beside the picture, so a user can re-run or edit them. No
+// shell is involved: gnuplot is spawned with an argument vector, and names
+// reach it only as single-quoted gnuplot strings.
 #include "Plot.h"
 #include "ResultWriter.h"
 
-#include <cstdio>
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <fstream>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char **environ;
 
 namespace ldae::runtime {
 
-/// Whether this gnuplot knows terminal `name` (asked once per name).
-static bool hasTerminal(const std::string &name) {
-  FILE *p = popen("gnuplot -e 'set terminal' 2>&1", "r");
-  if (!p)
-    return false;
-  std::string text;
+/// Runs `argv` (looked up on PATH) without a shell, so no character of a
+/// file name is ever interpreted; returns its exit status (-1: could not
+/// run) and its stdout and stderr together in `output`.
+static int runProgram(const std::vector<std::string> &argv,
+                      std::string &output) {
+  int fds[2];
+  if (pipe(fds) != 0)
+    return -1;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
+  posix_spawn_file_actions_addclose(&actions, fds[0]);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null",
+                                   O_RDONLY, 0);
+  std::vector<char *> args;
+  for (const std::string &a : argv)
+    args.push_back(const_cast<char *>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  int rc = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(fds[1]);
+  if (rc != 0) {
+    close(fds[0]);
+    output = std::strerror(rc);
+    return -1;
+  }
   char buf[4096];
-  size_t got;
-  while ((got = fread(buf, 1, sizeof buf, p)) > 0)
-    text.append(buf, got);
-  pclose(p);
+  ssize_t got;
+  while ((got = read(fds[0], buf, sizeof buf)) > 0 ||
+         (got < 0 && errno == EINTR))
+    if (got > 0)
+      output.append(buf, size_t(got));
+  close(fds[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR)
+      return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Whether this gnuplot knows terminal `name`.
+static bool hasTerminal(const std::string &name) {
+  std::string text;
+  if (runProgram({"gnuplot", "-e", "set terminal"}, text) < 0)
+    return false;
   return text.find(" " + name + " ") != std::string::npos;
 }
 
+/// `s` as a gnuplot string literal. Single quotes: gnuplot substitutes
+/// `command` even inside double-quoted strings, never inside single-quoted
+/// ones, where the only escape is '' for '. A line break cannot be written
+/// in one (the caller rejects such names).
 static std::string gnuplotString(const std::string &s) {
-  std::string q = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\')
-      q += '\\';
-    q += c;
-  }
-  return q + "\"";
+  std::string q = "'";
+  for (char c : s)
+    q += c == '\'' ? std::string("''") : std::string(1, c);
+  return q + "'";
 }
 
 Expected<bool> plot(const SimResult &result, const std::string &path,
@@ -58,6 +104,12 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
       return Error{sel.error()};
     idx = *sel;
   }
+  if (path.find_first_of("\n\r") != std::string::npos)
+    return Error{"the file name contains a line break"};
+  for (int i : idx)
+    if (available[i].find_first_of("\n\r") != std::string::npos)
+      return Error{fmt::format("the column name '{}' contains a line break",
+                               available[i])};
   std::string dat = path + ".dat", script = path + ".gp";
   {
     std::ofstream f(dat);
@@ -85,16 +137,12 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
         << gnuplotString(available[idx[i]]) << " noenhanced";
     f << "\n";
   }
-  std::string cmd = "gnuplot " + gnuplotString(script) + " 2>&1";
-  FILE *p = popen(cmd.c_str(), "r");
-  if (!p)
-    return Error{"cannot run gnuplot"};
+  // "./" keeps a relative name starting with '-' from being an option.
   std::string text;
-  char buf[1024];
-  size_t got;
-  while ((got = fread(buf, 1, sizeof buf, p)) > 0)
-    text.append(buf, got);
-  int rc = pclose(p);
+  int rc = runProgram(
+      {"gnuplot", script[0] == '/' ? script : "./" + script}, text);
+  if (rc < 0)
+    return Error{fmt::format("cannot run gnuplot: {}", text)};
   if (rc != 0)
     return Error{fmt::format("gnuplot failed on '{}': {}", script, text)};
   return true;

@@ -39,6 +39,16 @@ Expected<RunSettings> resolve(const ldae_model &m, const SimOptions &o) {
   s.rtol = pick(o.rtol, m.tolerance, 1e-6);
   s.atol = o.atol ? *o.atol : s.rtol;
   s.interval = pick(o.interval, m.interval, (s.stop - s.start) / 500);
+  // Non-finite times or tolerances make every later computation NaN (or
+  // an endless run); the driver rejects them on its command line already,
+  // this catches the experiment annotation and other callers.
+  for (auto [what, v] : {std::pair{"start time", s.start}, {"stop time", s.stop},
+                         {"rtol", s.rtol}, {"atol", s.atol}})
+    if (!std::isfinite(v))
+      return Error{fmt::format("the {} {} is not finite", what, v)};
+  if (o.interval && !std::isfinite(*o.interval))
+    return Error{fmt::format("the output interval {} is not finite",
+                             *o.interval)};
   if (!(s.stop >= s.start))
     return Error{fmt::format("the stop time {} is before the start time {}",
                              s.stop, s.start)};
@@ -46,6 +56,9 @@ Expected<RunSettings> resolve(const ldae_model &m, const SimOptions &o) {
     return Error{"tolerances must be positive"};
   if (!(s.interval > 0) && s.stop > s.start)
     return Error{"the output interval must be positive"};
+  if (s.stop > s.start && o.times.empty() && !o.everyStep &&
+      outputRows(s.start, s.stop, s.interval) > kMaxOutputRows)
+    return Error{tooManyRowsMessage(s.start, s.stop, s.interval)};
   for (size_t i = 0; i < o.times.size(); ++i)
     if (!(o.times[i] > s.start && o.times[i] <= s.stop) ||
         (i > 0 && !(o.times[i] > o.times[i - 1])))
@@ -119,6 +132,16 @@ bool adoptInitialPoint(const ModelEval &ev, IdaIntegrator &ida, int set,
   return true;
 }
 
+/// The message of a failed initialization: a domain error in the same form
+/// as one during the run (FailureReport), else the outcome's own text.
+std::string initFailure(const ModelEval &ev, int set, double t0,
+                        const InitOutcome &init) {
+  if (init.domainRow >= 0)
+    return describeInitDomainError(ev, set, init.domainRow,
+                                   init.domainY.data(), t0);
+  return fmt::format("initialization failed at t = {}: {}", t0, init.failure);
+}
+
 /// Finds the initial point; returns false (with the failure filled in)
 /// when there is none.
 bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
@@ -140,6 +163,10 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
       // The same rule by our own Newton iteration (tighter tolerance, no
       // dependence on the first output time), still sparse.
       InitOutcome init = initializeIndexOne(ev, set, t0, y, yp);
+      if (!init.ok && init.domainRow >= 0) {
+        res.failure = initFailure(ev, set, t0, init);
+        return false;
+      }
       if (init.ok) {
         if (log)
           *log << "initialization: IDACalcIC failed; index-1 Newton "
@@ -168,8 +195,7 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
   }
   InitOutcome init = initializeAlongJumps(ev, set, t0, y, yp, log);
   if (!init.ok) {
-    res.failure = "initialization failed at t = " + fmt::format("{}", t0) +
-                  ": " + init.failure;
+    res.failure = initFailure(ev, set, t0, init);
     return false;
   }
   if (log)
@@ -212,6 +238,18 @@ bool switchStates(const ModelEval &ev, IdaIntegrator &ida, int to, double t,
 }
 
 } // namespace
+
+double outputRows(double start, double stop, double interval) {
+  // In double: a tiny interval overflows a long.
+  return 1 + std::max(1.0, std::ceil((stop - start) / interval - 1e-9));
+}
+
+std::string tooManyRowsMessage(double start, double stop, double interval) {
+  return fmt::format("the output interval {} from {} to {} gives {:.3g} rows, "
+                     "more than the limit of {:.0e}; use a larger --interval",
+                     interval, start, stop, outputRows(start, stop, interval),
+                     kMaxOutputRows);
+}
 
 Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   auto wall0 = std::chrono::steady_clock::now();
@@ -267,6 +305,30 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     return res;
   };
 
+  double span = s.stop - s.start;
+  // Output grid start + k * interval, the last point exactly stop.
+  long nOut = !o.times.empty() ? long(o.times.size())
+               : span > 0 ? outputRows(s.start, s.stop, s.interval) - 1
+                          : 0;
+  auto gridTime = [&](long k) {
+    if (!o.times.empty())
+      return o.times[k - 1];
+    return k >= nOut ? s.stop : s.start + double(k) * s.interval;
+  };
+
+  if (m.n == 0) {
+    // Nothing left to integrate (alias elimination and constant folding
+    // solved everything): every output is a closed-form function of time.
+    // SUNDIALS cannot take an empty system (N_VMin of a length-0 vector
+    // reads element 0), so evaluate the outputs at the output times.
+    // Without solver steps, --every-step reports the same grid.
+    const double none = 0; // y and y' of length 0, never read
+    rec.record(s.start, &none, &none);
+    for (long k = 1; span > 0 && k <= nOut; ++k)
+      rec.record(gridTime(k), &none, &none);
+    return finish(nullptr);
+  }
+
   // Start with the best-conditioned state set at the start values.
   int set = 0;
   std::vector<double> cond =
@@ -276,29 +338,23 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   std::vector<double> atol(m.n);
   for (int i = 0; i < m.n; ++i)
     atol[i] = s.atol * (m.nominal ? m.nominal[i] : 1.0);
-  double span = s.stop - s.start;
   double tNext = s.start + (span > 0 ? std::min(s.interval, span) : 1e-6);
   IdaIntegrator ida(ev);
   // IDA needs stop > start; a zero-length run still initializes.
   auto ok = ida.init(set, s.start, m.start_y, m.start_yp, s.rtol, atol,
                      span > 0 ? s.stop : s.start + 1e-6, o.suppressAlgebraic);
-  if (!ok)
-    return Error{ok.error()};
+  if (!ok) {
+    // The options were fine; a SUNDIALS call failing from here on is a
+    // numerical failure of this run (status 3), never a command-line error.
+    res.failure = "simulation failed: " + ok.error();
+    return finish(&ida);
+  }
   if (!initialize(ev, ida, set, s.start, tNext, res, o.log))
     return finish(&ida);
   rec.record(s.start, ida.y(), ida.yp());
   if (span <= 0)
     return finish(&ida);
 
-  // Output grid start + k * interval, the last point exactly stop.
-  long nOut = o.times.empty()
-                  ? std::max(1L, long(std::ceil(span / s.interval - 1e-9)))
-                  : long(o.times.size());
-  auto gridTime = [&](long k) {
-    if (!o.times.empty())
-      return o.times[k - 1];
-    return k >= nOut ? s.stop : s.start + double(k) * s.interval;
-  };
   // Grid mode steps onto every output time with IDA's stop time, so the
   // reported values are step results that satisfy the constraints to the
   // Newton tolerance (interpolated algebraic values would not).
@@ -308,8 +364,10 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   int tinySteps = 0; // consecutive steps at round-off level
   auto target =
       o.everyStep ? ida.setStopTime(s.stop) : ida.setStopTime(gridTime(k));
-  if (!target)
-    return Error{target.error()};
+  if (!target) {
+    res.failure = "simulation failed: " + target.error();
+    return finish(&ida);
+  }
   while (true) {
     int flag = ida.step(t);
     if (flag >= 0 && ida.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))

@@ -67,6 +67,17 @@ struct SimResult {
   SimStats stats;
 };
 
+/// The most rows the interval grid may have (start row included): 10^8
+/// rows of one column are already 1.6 GB of CSV text.
+inline constexpr double kMaxOutputRows = 1e8;
+
+/// Rows of the interval grid from `start` to `stop` (> start), the start
+/// row included.
+double outputRows(double start, double stop, double interval);
+
+/// The error for a grid of more than kMaxOutputRows rows.
+std::string tooManyRowsMessage(double start, double stop, double interval);
+
 /// Integrates `model`. Returns an Error only for bad options (an unknown
 /// output or parameter name, stop before start, a non-positive tolerance);
 /// numerical failures come back as status 3 with the message in `failure`.

@@ -222,7 +222,7 @@ def emit_c(ldaec, model):
         sys.exit(SKIP)
     args = ["--stop", "400", "--interval", "4", "--rtol", "1e-10"]
     _, sim, _ = run(ldaec, [model, "--simulate"] + args)
-    with tempfile.TemporaryDirectory() as tmp:
+    with tempfile.TemporaryDirectory(dir=os.getcwd()) as tmp:
         src, exe = os.path.join(tmp, "model.c"), os.path.join(tmp, "model")
         run(ldaec, [model, "--emit", "c", "--main", "-o", src])
         build = subprocess.run(

@@ -147,12 +147,25 @@ int run(const std::string &command) {
 }
 
 std::string makeTempDir(const std::string &stem) {
+  // In the test's working directory (the build tree), not the system
+  // temporary directory, and removed when the test binary exits: a test
+  // run leaves no files behind.
+  struct Created {
+    std::vector<std::filesystem::path> dirs;
+    ~Created() {
+      std::error_code ec;
+      for (const auto &d : dirs)
+        std::filesystem::remove_all(d, ec);
+    }
+  };
+  static Created created;
   static int counter = 0;
   std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) /
+      std::filesystem::current_path() /
       ("ldae_cg_" + stem + "_" + std::to_string(getpid()) + "_" +
        std::to_string(counter++));
   std::filesystem::create_directories(dir);
+  created.dirs.push_back(dir);
   return dir.string();
 }
 

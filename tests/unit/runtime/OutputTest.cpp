@@ -9,6 +9,7 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <sstream>
+#include <unistd.h>
 
 using namespace ldae::runtime;
 
@@ -72,8 +73,16 @@ TEST(Output, PlotsSvgAndPng) {
   o.progress = false;
   auto r = simulate(m, o);
   ASSERT_TRUE(r);
-  auto dir = std::filesystem::temp_directory_path() / "ldae_plot_test";
-  std::filesystem::create_directories(dir);
+  // In the test's working directory (the build tree), never the system
+  // temporary directory; removed however the test ends.
+  struct ScratchDir {
+    std::filesystem::path path =
+        std::filesystem::current_path() /
+        ("ldae_plot_test_" + std::to_string(::getpid()));
+    ScratchDir() { std::filesystem::create_directories(path); }
+    ~ScratchDir() { std::filesystem::remove_all(path); }
+  } scratch;
+  const std::filesystem::path &dir = scratch.path;
   std::string svg = (dir / "rc.svg").string(), png = (dir / "rc.png").string();
   auto ok = plot(*r, svg, {"C.v"});
   ASSERT_TRUE(ok) << ok.error();
@@ -87,5 +96,4 @@ TEST(Output, PlotsSvgAndPng) {
   EXPECT_FALSE(bad);
   auto unknown = plot(*r, svg, {"nope"});
   EXPECT_FALSE(unknown);
-  std::filesystem::remove_all(dir);
 }

@@ -1,0 +1,320 @@
+// Command-line checks (see Validate.h). They run before the model is read
+// (or, for --outputs, right after it is flattened) so that a typo costs no
+// compile time and never leaves a half-written result behind.
+#include "Validate.h"
+
+#include "passes/Pipeline.h"
+#include "ResultWriter.h"
+#include "Simulator.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <set>
+#include <sys/stat.h>
+
+namespace ldae::driver {
+
+namespace {
+
+/// Largest magnitude of a start or stop time: stop - start and the output
+/// grid then never overflow a double.
+constexpr double kMaxTime = 1e300;
+
+/// What `st_mode` is, for "it is a directory, not a regular file".
+const char *fileKind(mode_t mode) {
+  if (S_ISDIR(mode))
+    return "a directory";
+  if (S_ISCHR(mode))
+    return "a character device";
+  if (S_ISBLK(mode))
+    return "a block device";
+  if (S_ISFIFO(mode))
+    return "a pipe";
+  if (S_ISSOCK(mode))
+    return "a socket";
+  return "a special file";
+}
+
+bool checkInput(const std::string &path, DiagnosticEngine &diags) {
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0) {
+    diags.report(DiagId::ErrCannotReadFile, SourceLoc{}, {path});
+    return false;
+  }
+  if (!S_ISREG(st.st_mode)) {
+    diags.report(DiagId::ErrInputNotRegular, SourceLoc{},
+                 {path, fileKind(st.st_mode)});
+    return false;
+  }
+  return true;
+}
+
+/// The file's directory exists (the file itself need not).
+bool checkOutputDir(const std::string &path, const std::string &what,
+                    DiagnosticEngine &diags) {
+  if (path.empty() || path == "-")
+    return true;
+  size_t slash = path.rfind('/');
+  if (slash == std::string::npos)
+    return true; // the working directory
+  std::string dir = slash == 0 ? "/" : path.substr(0, slash);
+  struct stat st;
+  if (stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+    return true;
+  diags.report(DiagId::ErrNoSuchDirectory, SourceLoc{}, {path, what, dir});
+  return false;
+}
+
+bool checkParam(const std::string &p, DiagnosticEngine &diags) {
+  size_t eq = p.find('=');
+  std::string name = eq == std::string::npos ? "" : p.substr(0, eq);
+  while (!name.empty() && name.back() == ' ')
+    name.pop_back();
+  if (name.empty()) {
+    diags.report(DiagId::ErrBadOverride, SourceLoc{}, {p});
+    return false;
+  }
+  std::string value = p.substr(eq + 1);
+  if (value == "true" || value == "false")
+    return true;
+  char *end = nullptr;
+  errno = 0;
+  double v = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !std::isfinite(v) || errno == ERANGE) {
+    diags.report(DiagId::ErrParamNotNumber, SourceLoc{}, {p, value});
+    return false;
+  }
+  return true;
+}
+
+bool endsWith(const std::string &s, const std::string &tail) {
+  return s.size() >= tail.size() &&
+         s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+std::string text(double v) { return fmt::format("{}", v); }
+
+/// A number option: finite, within the time range when `isTime`, positive
+/// when `positive`.
+bool checkNumber(const char *option, const std::optional<double> &v,
+                 bool isTime, bool positive, DiagnosticEngine &diags) {
+  if (!v)
+    return true;
+  if (!std::isfinite(*v)) {
+    diags.report(DiagId::ErrOptionNotFinite, SourceLoc{}, {option, text(*v)});
+    return false;
+  }
+  if (isTime && std::fabs(*v) > kMaxTime) {
+    diags.report(DiagId::ErrTimeOutOfRange, SourceLoc{}, {option, text(*v)});
+    return false;
+  }
+  if (positive && !(*v > 0)) {
+    diags.report(DiagId::ErrOptionNotPositive, SourceLoc{},
+                 {option, text(*v)});
+    return false;
+  }
+  return true;
+}
+
+bool checkTimes(const Options &o, DiagnosticEngine &diags) {
+  bool ok = checkNumber("--start", o.startTime, true, false, diags) &
+            checkNumber("--stop", o.stopTime, true, false, diags) &
+            checkNumber("--rtol", o.rtol, false, true, diags) &
+            checkNumber("--atol", o.atol, false, true, diags) &
+            checkNumber("--interval", o.interval, false, true, diags);
+  for (size_t i = 0; ok && i < o.outputTimes.size(); ++i) {
+    ok = checkNumber("--output-times", o.outputTimes[i], true, false, diags);
+    if (ok && i > 0 && !(o.outputTimes[i] > o.outputTimes[i - 1])) {
+      diags.report(DiagId::ErrOutputTimesOrder, SourceLoc{},
+                   {text(o.outputTimes[i]), text(o.outputTimes[i - 1])});
+      ok = false;
+    }
+  }
+  if (!ok)
+    return false;
+  // The model's experiment annotation may set what is not given here; the
+  // runtime checks the resolved values again.
+  double start = o.startTime.value_or(0.0);
+  if (o.stopTime && *o.stopTime < start) {
+    diags.report(DiagId::ErrStopBeforeStart, SourceLoc{},
+                 {text(*o.stopTime), text(start)});
+    return false;
+  }
+  if (o.stopTime && o.interval && *o.stopTime > start &&
+      runtime::outputRows(start, *o.stopTime, *o.interval) >
+          runtime::kMaxOutputRows) {
+    diags.report(
+        DiagId::ErrTooManyRows, SourceLoc{},
+        {runtime::tooManyRowsMessage(start, *o.stopTime, *o.interval)});
+    return false;
+  }
+  return true;
+}
+
+/// Options that only do something in one mode.
+struct ModeOption {
+  const char *name; // as CLI11 knows it (count())
+  const char *shown;
+  bool simulate, emit, analyze;
+};
+
+bool checkModes(const CLI::App &app, const Options &o,
+                DiagnosticEngine &diags) {
+  bool ok = true;
+  if (o.simulate && o.analyze) {
+    diags.report(DiagId::ErrModesConflict, SourceLoc{},
+                 {"--analyze", "--simulate"});
+    return false;
+  }
+  if (!o.emit.empty() && (o.simulate || o.analyze)) {
+    diags.report(DiagId::ErrModesConflict, SourceLoc{},
+                 {"--emit", o.simulate ? "--simulate" : "--analyze"});
+    return false;
+  }
+  static const ModeOption table[] = {
+      {"--start", "--start", true, false, false},
+      {"--stop", "--stop", true, false, false},
+      {"--rtol", "--rtol", true, false, false},
+      {"--atol", "--atol", true, false, false},
+      {"--interval", "--interval", true, false, false},
+      {"--every-step", "--every-step", true, false, false},
+      {"--output-times", "--output-times", true, false, false},
+      {"--algebraic-error-test", "--algebraic-error-test", true, false, false},
+      {"--plot", "--plot", true, false, false},
+      {"--stats", "--stats", true, false, false},
+      {"--compile-only", "--compile-only", true, false, false},
+      {"--jit", "--jit", true, false, false},
+      {"--outputs", "--outputs", true, true, false},
+      {"-o", "-o", true, true, false},
+  };
+  bool emitsModel = !o.emit.empty() && o.emit != "flat";
+  for (const ModeOption &m : table) {
+    if (app.count(m.name) == 0)
+      continue;
+    bool used = (m.simulate && o.simulate) ||
+                (m.emit && (std::string(m.name) == "-o" ? !o.emit.empty()
+                                                        : emitsModel));
+    if (used)
+      continue;
+    std::string modes = m.emit ? (std::string(m.name) == "-o"
+                                      ? "'--simulate' or '--emit'"
+                                      : "'--simulate' or '--emit "
+                                        "reduced|llvm|c'")
+                               : "'--simulate'";
+    diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{}, {m.shown, modes});
+    ok = false;
+  }
+  if (o.json && !o.analyze) {
+    diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{},
+                 {"--json", "'--analyze'"});
+    ok = false;
+  }
+  if (o.emitMain && o.emit != "c") {
+    diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{},
+                 {"--main", "'--emit c'"});
+    ok = false;
+  }
+  return ok;
+}
+
+bool checkPasses(const Options &o, DiagnosticEngine &diags) {
+  std::string all;
+  std::set<std::string> names;
+  for (const passes::PassInfo &p : passes::passList()) {
+    all += std::string(all.empty() ? "" : ", ") + p.name;
+    names.insert(p.name);
+  }
+  bool ok = true;
+  for (const std::string &name : o.printAfter)
+    if (!names.count(name)) {
+      diags.report(DiagId::ErrUnknownPass, SourceLoc{}, {name, all});
+      ok = false;
+    }
+  return ok;
+}
+
+} // namespace
+
+std::vector<std::string> splitOutputs(const std::string &list) {
+  std::vector<std::string> out;
+  for (size_t at = 0; at < list.size();) {
+    size_t comma = list.find(',', at);
+    if (comma == std::string::npos)
+      comma = list.size();
+    if (comma > at)
+      out.push_back(list.substr(at, comma - at));
+    at = comma + 1;
+  }
+  return out;
+}
+
+bool checkCommandLine(const CLI::App &app, const Options &o,
+                      DiagnosticEngine &diags) {
+  // Cheapest first; every problem is reported, not only the first.
+  bool ok = checkModes(app, o, diags);
+  ok &= checkTimes(o, diags);
+  for (const std::string &p : o.paramOverrides)
+    ok &= checkParam(p, diags);
+  ok &= checkPasses(o, diags);
+  ok &= checkOutputDir(o.outputFile, "-o", diags);
+  ok &= checkOutputDir(o.plotFile, "--plot", diags);
+  if (!o.plotFile.empty() && !endsWith(o.plotFile, ".svg") &&
+      !endsWith(o.plotFile, ".png")) {
+    diags.report(DiagId::ErrPlotExtension, SourceLoc{}, {o.plotFile});
+    ok = false;
+  }
+  return checkInput(o.input, diags) && ok;
+}
+
+bool checkAgainstModel(const Options &o, const ir::Model &model,
+                       DiagnosticEngine &diags) {
+  std::vector<std::string> wanted = splitOutputs(o.outputs);
+  if (wanted.empty())
+    return true;
+  std::vector<std::string> names;
+  std::set<std::string> known;
+  for (const ir::Variable &v : model.variables) {
+    names.push_back(v.name);
+    known.insert(v.name);
+    known.insert("der(" + v.name + ")");
+  }
+  bool ok = true;
+  for (const std::string &w : wanted) {
+    if (known.count(w))
+      continue;
+    ok = false;
+    std::vector<std::string> close = runtime::closeNames(names, w);
+    if (close.empty()) {
+      diags.report(DiagId::ErrUnknownOutputOption, SourceLoc{}, {w});
+      continue;
+    }
+    std::string list;
+    for (size_t i = 0; i < close.size(); ++i)
+      list += (i ? ", '" : "'") + close[i] + "'";
+    diags.report(DiagId::ErrUnknownOutputOptionSuggest, SourceLoc{},
+                 {w, list});
+  }
+  return ok;
+}
+
+bool hasCommandLineError(const DiagnosticEngine &diags) {
+  for (const Diagnostic &d : diags.diagnostics())
+    switch (d.id) {
+    case DiagId::ErrModelNotFound:
+    case DiagId::ErrModelNotFoundSuggest:
+    case DiagId::ErrBadOverride:
+    case DiagId::ErrUnknownOverride:
+    case DiagId::ErrUnknownOverrideSuggest:
+    case DiagId::ErrOverrideConstant:
+      return true;
+    default:
+      break;
+    }
+  return false;
+}
+
+} // namespace ldae::driver
