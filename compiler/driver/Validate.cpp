@@ -208,6 +208,14 @@ bool checkModes(const CLI::App &app, const Options &o,
     diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{}, {m.shown, modes});
     ok = false;
   }
+  if (o.emit == "flat")
+    // The flat model is printed before any pass runs.
+    for (const char *name : {"--print-after", "--method"})
+      if (app.count(name)) {
+        diags.report(DiagId::ErrOptionNoEffectWith, SourceLoc{},
+                     {name, "'--emit flat'"});
+        ok = false;
+      }
   if (o.json && !o.analyze) {
     diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{},
                  {"--json", "'--analyze'"});

@@ -247,6 +247,13 @@ std::string describeInitDomainError(const ModelEval &ev, int set, int row,
          "\n  hint: check the start values and parameters";
 }
 
+std::string describeSolverError(double t, const std::string &what) {
+  return fmt::format("simulation failed at t = {:.10g}: {}\n  hint: the "
+                     "solver could not be set up here; try other --rtol and "
+                     "--atol values, and report the model if it persists",
+                     t, what);
+}
+
 std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
                             int flag, double t) {
   FlagInfo info = flagInfo(flag);

@@ -27,6 +27,11 @@ std::string describeDomainRow(const ModelEval &ev, int set, int row,
 std::string describeInitDomainError(const ModelEval &ev, int set, int row,
                                     const double *y, double t);
 
+/// Describes a SUNDIALS set-up call that failed at time `t` with
+/// `what` (e.g. IDAReInit after a state switch): a numerical failure of
+/// the run like the others, with the time and a hint.
+std::string describeSolverError(double t, const std::string &what);
+
 /// Describes the failure of IDASolve with `flag` (< 0) at time `t`.
 std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
                             int flag, double t);

@@ -126,7 +126,7 @@ bool adoptInitialPoint(const ModelEval &ev, IdaIntegrator &ida, int set,
   reportMoves(ev, y0, init.y.data(), log);
   auto re = ida.reinit(set, t0, init.y.data(), init.yp.data());
   if (!re) {
-    res.failure = re.error();
+    res.failure = describeSolverError(t0, re.error());
     return false;
   }
   return true;
@@ -180,7 +180,7 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
               "the jump space\n";
     auto re = ida.reinit(set, t0, y.data(), yp.data());
     if (!re) {
-      res.failure = re.error();
+      res.failure = describeSolverError(t0, re.error());
       return false;
     }
   }
@@ -215,7 +215,7 @@ bool switchStates(const ModelEval &ev, IdaIntegrator &ida, int to, double t,
   std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
   auto re = ida.reinit(to, t, y.data(), yp.data());
   if (!re) {
-    res.failure = re.error();
+    res.failure = describeSolverError(t, re.error());
     return false;
   }
   int flag = ida.calcIC(tNext);
@@ -346,7 +346,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   if (!ok) {
     // The options were fine; a SUNDIALS call failing from here on is a
     // numerical failure of this run (status 3), never a command-line error.
-    res.failure = "simulation failed: " + ok.error();
+    res.failure = describeSolverError(s.start, ok.error());
     return finish(&ida);
   }
   if (!initialize(ev, ida, set, s.start, tNext, res, o.log))
@@ -365,7 +365,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   auto target =
       o.everyStep ? ida.setStopTime(s.stop) : ida.setStopTime(gridTime(k));
   if (!target) {
-    res.failure = "simulation failed: " + target.error();
+    res.failure = describeSolverError(s.start, target.error());
     return finish(&ida);
   }
   while (true) {
@@ -389,7 +389,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
         atStop = false;
         auto next = ida.setStopTime(gridTime(k));
         if (!next) {
-          res.failure = next.error();
+          res.failure = describeSolverError(t, next.error());
           break;
         }
       }

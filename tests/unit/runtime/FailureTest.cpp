@@ -158,3 +158,30 @@ TEST(Failure, SparseSingularIterationMatrixNamesEquation) {
   if (named != std::string::npos)
     EXPECT_EQ(r.failure.substr(named, 17), "\n  in equation 2\n") << r.failure;
 }
+
+// A SUNDIALS call that rejects its input once the options were accepted
+// (here IDASVtolerances: a negative nominal value makes an absolute
+// tolerance negative) is a numerical failure of the run, status 3 with the
+// time and a hint, never an Error (which the driver reports as a bad
+// command line, exit 2).
+TEST(Failure, SolverSetUpErrorIsStatusThree) {
+  ldae_model m = handmodels::robertson();
+  static const double negative[] = {1, -100, 100};
+  m.nominal = negative;
+  SimOptions o;
+  o.stop = 1;
+  o.progress = false;
+  auto r = simulate(m, o);
+  ASSERT_TRUE(r) << r.error();
+  EXPECT_EQ(r->status, 3);
+  EXPECT_EQ(r->failure.rfind("simulation failed at t = 0: internal error: "
+                             "IDASVtolerances",
+                             0),
+            0u)
+      << r->failure;
+  EXPECT_NE(r->failure.find("\n  hint: the solver could not be set up here"),
+            std::string::npos)
+      << r->failure;
+  EXPECT_EQ(r->columns, (std::vector<std::string>{"time", "y1", "y2", "y3"}));
+  EXPECT_TRUE(r->rows.empty());
+}
