@@ -5,8 +5,11 @@
 
 #include "LsdParser.h"
 #include "antlr4-runtime.h"
+#include "support/Utf8.h"
 
+#include <cmath>
 #include <cstdlib>
+#include <unordered_map>
 
 namespace ldae::frontend {
 namespace {
@@ -19,9 +22,9 @@ using antlr4::tree::TerminalNode;
 
 class AstBuilder {
 public:
-  AstBuilder(uint32_t file, const SourceManager &sources,
+  AstBuilder(uint32_t file, const std::u32string &chars,
              DiagnosticEngine &diags)
-      : file_(file), text_(sources.text(file)), diags_(diags) {}
+      : file_(file), text_(chars), diags_(diags) {}
 
   std::unique_ptr<ast::StoredDefinition>
   build(LsdParser::StoredDefinitionContext *ctx) {
@@ -29,6 +32,7 @@ public:
     def->file = file_;
     for (auto *c : ctx->classDefinition())
       def->classes.push_back(classDefinition(c, nullptr));
+    checkUnique(def->classes, nullptr, "this file");
     return def;
   }
 
@@ -42,7 +46,8 @@ private:
   SourceLoc loc(TerminalNode *n) const { return loc(n->getSymbol()); }
 
   /// Columns from the start of `c` to its end, or to the end of its first
-  /// line when it spans several.
+  /// line when it spans several. Token indices count characters, as
+  /// `text_` does.
   uint32_t length(ParserRuleContext *c) const {
     Token *a = c->getStart(), *b = c->getStop();
     if (!a || !b || b->getStopIndex() < a->getStartIndex())
@@ -63,7 +68,7 @@ private:
     std::string out;
     bool space = false;
     for (size_t i = a->getStartIndex(); i <= b->getStopIndex(); ++i) {
-      char ch = text_[i];
+      char32_t ch = text_[i];
       if (ch == ' ' || ch == '\t' || ch == '\n' || ch == '\r') {
         space = true;
         continue;
@@ -71,9 +76,32 @@ private:
       if (space && !out.empty())
         out += ' ';
       space = false;
-      out += ch;
+      utf8::append(out, ch);
     }
     return out;
+  }
+
+  /// The classes and components of one class (or the classes of a file)
+  /// share one namespace: a second declaration of a name is an error with
+  /// a note at the first, whatever the kinds and types.
+  void checkUnique(const std::vector<std::unique_ptr<ast::ClassDef>> &classes,
+                   const std::vector<ast::Component> *components,
+                   const std::string &where) {
+    std::unordered_map<std::string, SourceLoc> first;
+    auto check = [&](const std::string &name, SourceLoc at, uint32_t length) {
+      auto [it, added] = first.emplace(name, at);
+      if (added)
+        return;
+      Diagnostic &d = diags_.report(DiagId::ErrDeclaredTwice,
+                                    SourceRange{at, length}, {name, where});
+      DiagnosticEngine::addNote(d, it->second, DiagId::NoteDeclaredHere,
+                                {name});
+    };
+    for (const auto &c : classes)
+      check(c->name, c->loc, c->length);
+    if (components)
+      for (const ast::Component &c : *components)
+        check(c.name, c.loc, c.length);
   }
 
   void unsupported(SourceLoc where, const std::string &what) {
@@ -178,7 +206,7 @@ private:
     cls->loc = loc(spec);
     if (auto *lc = dynamic_cast<LsdParser::LongClassContext *>(spec)) {
       cls->name = ident(lc->IDENT(0));
-      cls->length = static_cast<uint32_t>(lc->IDENT(0)->getText().size());
+      cls->length = static_cast<uint32_t>(utf8::countChars(lc->IDENT(0)->getText()));
       cls->description = stringComment(lc->stringComment());
       if (lc->endName) {
         std::string endName = identText(lc->endName->getText());
@@ -187,9 +215,10 @@ private:
                         {endName, cls->name});
       }
       composition(lc->composition(), *cls);
+      checkUnique(cls->classes, &cls->components, ldae::quoted(cls->name));
     } else if (auto *sc = dynamic_cast<LsdParser::ShortClassContext *>(spec)) {
       cls->name = ident(sc->IDENT());
-      cls->length = static_cast<uint32_t>(sc->IDENT()->getText().size());
+      cls->length = static_cast<uint32_t>(utf8::countChars(sc->IDENT()->getText()));
       cls->isShort = true;
       auto *bp = sc->basePrefix();
       if (bp->INPUT())
@@ -322,7 +351,7 @@ private:
       ast::Component comp;
       comp.name = ident(decl->IDENT());
       comp.loc = loc(decl);
-      comp.length = static_cast<uint32_t>(decl->IDENT()->getText().size());
+      comp.length = static_cast<uint32_t>(utf8::countChars(decl->IDENT()->getText()));
       comp.text = sourceText(decl);
       // Drop the trailing description from the text: `x = 1 "doc"`.
       if (auto *sc = decl->comment()->stringComment(); sc && sc->getStart() &&
@@ -702,6 +731,11 @@ private:
       auto e = make(ast::ExprKind::Number, c);
       e->number = std::strtod(n->NUMBER()->getText().c_str(), nullptr);
       e->text = n->NUMBER()->getText();
+      // 1e309 would silently become infinity and poison every value
+      // computed from it.
+      if (!std::isfinite(e->number))
+        diags_.report(DiagId::ErrNumberTooLarge,
+                      SourceRange{e->loc, e->length}, {e->text});
       return e;
     }
     if (auto *s = dynamic_cast<LsdParser::StringPrimaryContext *>(c)) {
@@ -833,7 +867,7 @@ private:
   }
 
   uint32_t file_;
-  const std::string &text_;
+  const std::u32string &text_; // the decoded file, as the lexer read it
   DiagnosticEngine &diags_;
 };
 
@@ -841,11 +875,11 @@ private:
 
 std::unique_ptr<ast::StoredDefinition>
 buildAst(antlr4::ParserRuleContext *storedDefinition, uint32_t fileId,
-         const SourceManager &sources, DiagnosticEngine &diags) {
+         const std::u32string &chars, DiagnosticEngine &diags) {
   auto *ctx = dynamic_cast<LsdParser::StoredDefinitionContext *>(storedDefinition);
   if (!ctx)
     return nullptr;
-  AstBuilder builder(fileId, sources, diags);
+  AstBuilder builder(fileId, chars, diags);
   return builder.build(ctx);
 }
 

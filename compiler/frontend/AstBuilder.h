@@ -4,6 +4,8 @@
 #include "frontend/Ast.h"
 #include "support/Diagnostics.h"
 
+#include <string>
+
 namespace antlr4 {
 class ParserRuleContext;
 }
@@ -11,10 +13,11 @@ class ParserRuleContext;
 namespace ldae::frontend {
 
 /// Converts the tree of `storedDefinition` (a parse without syntax errors)
-/// of file `fileId` into the AST; reports unsupported constructs that the
+/// of file `fileId`, whose characters as the lexer read them are `chars`
+/// (token indices point into them), into the AST; reports unsupported constructs that the
 /// grammar accepts (redeclarations, inner/outer...).
 std::unique_ptr<ast::StoredDefinition>
 buildAst(antlr4::ParserRuleContext *storedDefinition, uint32_t fileId,
-         const SourceManager &sources, DiagnosticEngine &diags);
+         const std::u32string &chars, DiagnosticEngine &diags);
 
 } // namespace ldae::frontend

@@ -1,6 +1,7 @@
 // Class lookup and library loading; see ClassTable.h.
 #include "frontend/ClassTable.h"
 #include "support/EditDistance.h"
+#include "frontend/Frontend.h"
 #include "frontend/Parser.h"
 
 #include <algorithm>
@@ -49,9 +50,17 @@ const ast::ClassDef *ClassTable::libraryPackage(const std::string &name) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(p, ec))
       continue;
-    uint32_t id = sources_.loadFile(p.string());
-    if (id == 0)
+    LoadError error = LoadError::None;
+    uint32_t id = sources_.loadFile(p.string(), &error);
+    if (id == 0) {
+      // A library file that exists but is refused (too large) must say so
+      // rather than look like a missing package.
+      if (error == LoadError::TooLarge) {
+        reportLoadError(diags_, p.string(), error);
+        return nullptr;
+      }
       continue;
+    }
     auto def = parseFile(id, sources_, diags_);
     if (!def)
       return nullptr;

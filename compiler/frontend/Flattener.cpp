@@ -16,6 +16,8 @@ Flattener::~Flattener() = default;
 bool Flattener::overBudget() {
   if (!model_)
     return false;
+  if (instances_ > kMaxInstances)
+    return true; // reported by countInstances
   size_t scalars = model_->variables.size() + model_->parameters.size() +
                    model_->equations.size() + model_->initialEquations.size();
   if (scalars <= kMaxScalars)

@@ -189,14 +189,17 @@ public:
   std::optional<int64_t> evalInteger(const ast::Expr &e, const Scope &scope,
                                      Env *env, const std::string &what);
   /// The numeric value of a lowered scalar that must not depend on
-  /// variables or time; nullopt if it does (nothing reported).
-  std::optional<double> constantValue(ir::ExprRef e);
+  /// variables or time; nullopt if it does (nothing reported). When it does
+  /// not but has no value (0/0), `evalError` (if given) gets the reason.
+  std::optional<double> constantValue(ir::ExprRef e,
+                                      std::string *evalError = nullptr);
   /// The value of a parameter binding or a `start` attribute: like
   /// constantValue, but the parameters it reads stay changeable (see
   /// ir::Parameter::structural).
-  std::optional<double> bindingValue(ir::ExprRef e) {
+  std::optional<double> bindingValue(ir::ExprRef e,
+                                     std::string *evalError = nullptr) {
     readingBinding_ = true;
-    std::optional<double> v = constantValue(e);
+    std::optional<double> v = constantValue(e, evalError);
     readingBinding_ = false;
     return v;
   }
@@ -259,6 +262,9 @@ private:
   void checkModifiers(InstNode &node);
   ModPtr makeMod(const ast::Modification *m, const Scope &scope);
   void readExperiment(const ast::ClassDef &cls, InstNode &root);
+  /// Adds `count` instances of `node` to the total; false (reported once,
+  /// at `node`) past kMaxInstances.
+  bool countInstances(int64_t count, const InstNode &node);
 
   // Inline.cpp
   enum class ExecResult { Ok, Error };
@@ -327,11 +333,17 @@ private:
 public:
   /// Limits against adversarial input (each reported once, then the
   /// flattening stops adding): elements of one array, scalars in total,
-  /// inlining depth, instance nesting.
+  /// component instances in total (an instance costs far more memory than
+  /// a scalar: 25 levels of two components each would be 2^25 of them;
+  /// only instances of classes count, leaves count as scalars),
+  /// inlining depth, instance nesting (components in components, extends
+  /// chains and short-type chains; elaboration recurses once per level and
+  /// flat names grow with the depth). docs/frontend.md, "Limits".
   static constexpr int64_t kMaxArrayElements = 2'000'000;
   static constexpr size_t kMaxScalars = 4'000'000;
+  static constexpr size_t kMaxInstances = 1'000'000;
   static constexpr unsigned kMaxInlineDepth = 64;
-  static constexpr unsigned kMaxInstanceDepth = 64;
+  static constexpr unsigned kMaxInstanceDepth = 1000;
 
   /// True once a size limit was hit: flattening stops producing.
   bool overBudget();
@@ -354,6 +366,7 @@ private:
            Value>
       modValueCache_;
   bool budgetReported_ = false;
+  size_t instances_ = 0; // component instances created, array elements each
   bool readingBinding_ = false; // see bindingValue
   std::set<std::string> reported_;
   Diagnostic dropped_;

@@ -100,13 +100,29 @@ std::unique_ptr<ir::Model> compileFileId(uint32_t id, const FrontendOptions &opt
 
 } // namespace
 
+void reportLoadError(DiagnosticEngine &diags, const std::string &path,
+                     LoadError error) {
+  switch (error) {
+  case LoadError::NotRegularFile:
+    diags.report(DiagId::ErrFileNotRegular, SourceLoc{}, {path});
+    return;
+  case LoadError::TooLarge:
+    diags.report(DiagId::ErrFileTooLarge, SourceLoc{},
+                 {path, std::to_string(SourceManager::kMaxFileBytes >> 20)});
+    return;
+  default:
+    diags.report(DiagId::ErrCannotReadFile, SourceLoc{}, {path});
+  }
+}
+
 std::unique_ptr<ir::Model> compileFile(const std::string &path,
                                        const FrontendOptions &opts,
                                        SourceManager &sources,
                                        DiagnosticEngine &diags) {
-  uint32_t id = sources.loadFile(path);
+  LoadError error = LoadError::None;
+  uint32_t id = sources.loadFile(path, &error);
   if (id == 0) {
-    diags.report(DiagId::ErrCannotReadFile, SourceLoc{}, {path});
+    reportLoadError(diags, path, error);
     return nullptr;
   }
   return compileFileId(id, opts, sources, diags);

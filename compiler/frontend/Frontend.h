@@ -24,6 +24,11 @@ std::unique_ptr<ir::Model> compileFile(const std::string &path,
                                        SourceManager &sources,
                                        DiagnosticEngine &diags);
 
+/// Reports why `path` could not be loaded (unreadable, not a regular file,
+/// over SourceManager::kMaxFileBytes), naming the file.
+void reportLoadError(DiagnosticEngine &diags, const std::string &path,
+                     LoadError error);
+
 /// Same for source text already in memory (tests, the fuzzer): registers
 /// `text` under the name `path`.
 std::unique_ptr<ir::Model> compileSource(const std::string &path,

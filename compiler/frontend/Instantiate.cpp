@@ -176,11 +176,8 @@ bool Flattener::resolveType(InstNode &node) {
   ast::Name cur = d.typeName;
   std::vector<ModPtr> typeMods;
   std::vector<int64_t> typeDims;
-  for (unsigned depth = 0;; ++depth) {
-    if (depth > 32) {
-      report(DiagId::ErrRecursiveType, d.typeName.loc, {node.typeName});
-      return false;
-    }
+  std::vector<const ast::ClassDef *> seen; // short classes on the way
+  for (;;) {
     if (!cur.global)
       if (BuiltinType b = builtinNamed(cur); b != BuiltinType::None) {
         node.builtin = b;
@@ -207,6 +204,16 @@ bool Flattener::resolveType(InstNode &node) {
       node.cls = cls;
       break;
     }
+    if (std::find(seen.begin(), seen.end(), cls) != seen.end()) {
+      report(DiagId::ErrRecursiveType, d.typeName.loc, {node.typeName});
+      return false;
+    }
+    if (seen.size() >= kMaxInstanceDepth) {
+      report(DiagId::ErrTypeTooDeep, d.typeName.loc,
+             {node.typeName, std::to_string(kMaxInstanceDepth)});
+      return false;
+    }
+    seen.push_back(cls);
     Scope typeScope{nullptr, cls->parent};
     if (cls->shortMod)
       typeMods.push_back(makeMod(cls->shortMod.get(), typeScope));
@@ -229,6 +236,19 @@ bool Flattener::resolveType(InstNode &node) {
   node.mod = mergeMods(node.mod, typeMod);
   node.dims.insert(node.dims.end(), typeDims.begin(), typeDims.end());
   return true;
+}
+
+bool Flattener::countInstances(int64_t count, const InstNode &node) {
+  instances_ += static_cast<size_t>(count);
+  if (instances_ <= kMaxInstances)
+    return true;
+  if (!budgetReported_) {
+    budgetReported_ = true;
+    report(DiagId::ErrTooManyInstances,
+           SourceRange{node.decl->loc, node.decl->length},
+           {std::to_string(kMaxInstances), node.path});
+  }
+  return false;
 }
 
 void Flattener::elaborateComponent(InstNode &node) {
@@ -278,7 +298,9 @@ void Flattener::elaborateComponent(InstNode &node) {
     }
     count *= n;
   }
-  if (overBudget()) {
+  // Instances of classes count, one per array element; leaves are bounded
+  // by kMaxScalars instead.
+  if (overBudget() || (!node.isLeaf() && !countInstances(count, node))) {
     node.state = InstNode::State::Failed;
     return;
   }
@@ -290,15 +312,24 @@ void Flattener::elaborateComponent(InstNode &node) {
     return;
   }
 
-  // A class instance: guard against a class containing itself.
+  // A class instance: a class containing itself is a cycle; a long chain
+  // of distinct classes is not, but its depth is bounded because
+  // elaboration recurses once per level.
   unsigned depth = 0;
-  for (InstNode *a = node.parent; a; a = a->parent, ++depth)
-    if (a->cls == node.cls || depth > kMaxInstanceDepth) {
-      report(DiagId::ErrRecursiveComponent, d.loc,
-                    {d.name, node.typeName});
+  for (InstNode *a = node.parent; a; a = a->parent, ++depth) {
+    if (a->cls == node.cls) {
+      report(DiagId::ErrRecursiveComponent, d.loc, {d.name, node.typeName});
       node.state = InstNode::State::Failed;
       return;
     }
+    if (depth >= kMaxInstanceDepth) {
+      report(DiagId::ErrComponentTooDeep, d.loc,
+             {d.name, node.typeName, std::to_string(kMaxInstanceDepth)});
+      node.state = InstNode::State::Failed;
+      return;
+    }
+  }
+
   if (node.mod && node.mod->value) {
     report(DiagId::ErrUnsupported, node.mod->loc,
                   {"a value for a component of type '" + node.typeName + "'"});
@@ -374,6 +405,12 @@ struct Collector {
         f.report(DiagId::ErrRecursiveExtends,
                      SourceRange{ext.base.loc, ext.base.length},
                      {base->name});
+        continue;
+      }
+      if (stack.size() >= Flattener::kMaxInstanceDepth) {
+        f.report(DiagId::ErrExtendsTooDeep,
+                 SourceRange{ext.base.loc, ext.base.length},
+                 {base->name, std::to_string(Flattener::kMaxInstanceDepth)});
         continue;
       }
       if (base->kind == ast::ClassKind::Function ||
@@ -524,11 +561,25 @@ std::optional<double> scalarNumber(Flattener &f, const Mod &mod,
     return std::nullopt;
   }
   ir::ExprRef e = v->scalarExpr();
-  std::optional<double> c = binding ? f.bindingValue(e) : f.constantValue(e);
-  if (!c)
-    f.report(DiagId::ErrNotConstant, SourceRange{mod.loc, mod.length},
-                     {what});
-  else if (binding && !e->isConstant())
+  std::string evalError;
+  std::optional<double> c =
+      binding ? f.bindingValue(e, &evalError) : f.constantValue(e, &evalError);
+  if (!c) {
+    if (evalError.empty())
+      f.report(DiagId::ErrNotConstant, SourceRange{mod.loc, mod.length},
+               {what});
+    else
+      f.report(DiagId::ErrValueNotANumber, SourceRange{mod.loc, mod.length},
+               {what, evalError});
+    return c;
+  }
+  if (!std::isfinite(*c)) {
+    // 0/0 or an overflow: every use downstream would be nan too.
+    f.report(DiagId::ErrNotFinite, SourceRange{mod.loc, mod.length},
+             {what, fmtInteger(*c)});
+    return std::nullopt;
+  }
+  if (binding && !e->isConstant())
     *binding = e;
   return c;
 }
@@ -634,6 +685,11 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
 }
 
 void Flattener::readExperiment(const ast::ClassDef &cls, InstNode &root) {
+  struct Field {
+    std::optional<double> *slot;
+    SourceRange where;
+  };
+  std::map<std::string, Field> seen;
   for (const auto &ann : cls.annotations)
     for (const ast::Modifier &arg : ann->args) {
       if (arg.path.size() != 1 || arg.path[0] != "experiment" || !arg.mod)
@@ -650,12 +706,30 @@ void Flattener::readExperiment(const ast::ClassDef &cls, InstNode &root) {
                                  : nullptr;
         if (!slot)
           continue;
-        if (std::optional<double> v = evalConstant(
-                *field.mod->value, Scope{&root, &cls}, nullptr,
-                "experiment " + key))
-          *slot = *v;
+        const ast::Expr &value = *field.mod->value;
+        SourceRange where{value.loc, value.length};
+        std::optional<double> v = evalConstant(value, Scope{&root, &cls},
+                                               nullptr, "experiment " + key);
+        if (!v)
+          continue;
+        // The runtime trusts these values; a bad one is the model's error,
+        // reported where it is written (evalConstant rejects non-finite).
+        if ((key == "Tolerance" || key == "Interval") && *v <= 0) {
+          report(DiagId::ErrExperimentNotPositive, where,
+                 {key, fmtInteger(*v)});
+          continue;
+        }
+        *slot = *v;
+        seen[key] = Field{slot, where};
       }
     }
+  auto start = seen.find("StartTime"), stop = seen.find("StopTime");
+  double startTime = start != seen.end() ? **start->second.slot : 0.0;
+  if (stop != seen.end() && **stop->second.slot < startTime) {
+    report(DiagId::ErrExperimentStopBeforeStart, stop->second.where,
+           {fmtInteger(**stop->second.slot), fmtInteger(startTime)});
+    model_->experiment.stopTime.reset();
+  }
 }
 
 } // namespace ldae::frontend

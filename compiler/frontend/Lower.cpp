@@ -59,7 +59,8 @@ Diagnostic &Flattener::report(DiagId id, SourceRange range,
   return diags_.report(id, range, std::move(args));
 }
 
-std::optional<double> Flattener::constantValue(ir::ExprRef e) {
+std::optional<double> Flattener::constantValue(ir::ExprRef e,
+                                               std::string *evalError) {
   if (!e)
     return std::nullopt;
   if (e->isConstant())
@@ -85,8 +86,11 @@ std::optional<double> Flattener::constantValue(ir::ExprRef e) {
     return model_->parameters[p].value;
   };
   Expected<double> r = ir::evaluate(e, env, model_.get());
-  if (!r || dependsOnVariable)
+  if (!r || dependsOnVariable) {
+    if (!r && !dependsOnVariable && evalError)
+      *evalError = r.error();
     return std::nullopt;
+  }
   return *r;
 }
 
@@ -101,7 +105,18 @@ std::optional<double> Flattener::evalConstant(const ast::Expr &e,
            {what, v->isString ? "a string" : describeShape(v->shape)});
     return std::nullopt;
   }
-  std::optional<double> c = constantValue(v->scalarExpr());
+  std::string evalError;
+  std::optional<double> c = constantValue(v->scalarExpr(), &evalError);
+  if (!c && !evalError.empty()) {
+    report(DiagId::ErrValueNotANumber, SourceRange{e.loc, e.length},
+           {what, evalError});
+    return c;
+  }
+  if (c && !std::isfinite(*c)) {
+    report(DiagId::ErrNotFinite, SourceRange{e.loc, e.length},
+           {what, fmtInteger(*c)});
+    return std::nullopt;
+  }
   if (!c) {
     std::vector<ir::VarKey> vars = ir::freeVariables(v->scalarExpr());
     if (!vars.empty()) {

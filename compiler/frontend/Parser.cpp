@@ -8,7 +8,11 @@
 #include "LsdLexer.h"
 #include "LsdParser.h"
 #include "antlr4-runtime.h"
+#include "support/Utf8.h"
 
+#include <fmt/format.h>
+
+#include <new>
 #include <unordered_map>
 
 namespace ldae::frontend {
@@ -21,8 +25,47 @@ struct AbortParse {};
 
 constexpr unsigned kMaxSyntaxErrors = 20;
 
+/// The file as the lexer reads it, decoded by our own lenient decoder (the
+/// runtime's throws std::range_error on the first invalid byte). Invalid
+/// bytes become escape code points that only comments, strings and quoted
+/// names accept; anywhere else the lexer reports them with their position.
+/// A lone CR becomes LF: ANTLR counts lines at LF only, SourceManager at
+/// LF, CRLF and CR.
+class SourceStream : public ANTLRInputStream {
+public:
+  explicit SourceStream(std::string_view text) {
+    _data.reserve(text.size());
+    for (size_t i = 0; i < text.size();) {
+      utf8::Char c = utf8::decodeAt(text, i);
+      char32_t cp = c.cp;
+      if (cp == '\r' && (i + 1 == text.size() || text[i + 1] != '\n'))
+        cp = '\n';
+      else if (cp == 0xFEFF && i == 0)
+        cp = ' '; // a byte-order mark: one column, like the renderer's
+      _data.push_back(cp);
+      i += c.bytes;
+    }
+  }
+
+  /// Token text: escaped bytes come out as U+FFFD, so strings and names
+  /// are always valid UTF-8.
+  std::string getText(const misc::Interval &iv) override {
+    if (iv.a < 0 || iv.b < iv.a || static_cast<size_t>(iv.a) >= _data.size())
+      return "";
+    size_t stop = std::min(static_cast<size_t>(iv.b), _data.size() - 1);
+    std::string out;
+    for (size_t i = static_cast<size_t>(iv.a); i <= stop; ++i)
+      utf8::append(out, _data[i]);
+    return out;
+  }
+
+  char32_t at(size_t i) const { return i < _data.size() ? _data[i] : 0; }
+  const std::u32string &chars() const { return _data; }
+};
+
 struct ErrorSink {
   uint32_t file;
+  const SourceManager &sources;
   DiagnosticEngine &diags;
   unsigned count = 0;
 
@@ -30,8 +73,21 @@ struct ErrorSink {
               std::vector<std::string> args) {
     SourceLoc loc{file, static_cast<uint32_t>(line),
                   static_cast<uint32_t>(col + 1)};
-    diags.report(id, SourceRange{loc, std::max<uint32_t>(1, length)},
-                 std::move(args));
+    reportAt(id, SourceRange{loc, std::max<uint32_t>(1, length)},
+             std::move(args));
+  }
+  /// At token `t`; the end of file is shown just after the last text, on a
+  /// line the user can see, rather than on the empty line after it.
+  void report(DiagId id, Token *t, uint32_t length,
+              std::vector<std::string> args) {
+    if (!t || t->getType() == Token::EOF)
+      reportAt(id, SourceRange{sources.endOfText(file), 1}, std::move(args));
+    else
+      report(id, t->getLine(), t->getCharPositionInLine(), length,
+             std::move(args));
+  }
+  void reportAt(DiagId id, SourceRange range, std::vector<std::string> args) {
+    diags.report(id, range, std::move(args));
     if (++count >= kMaxSyntaxErrors)
       throw AbortParse{};
   }
@@ -42,8 +98,8 @@ std::string describeToken(Token *t) {
   if (!t || t->getType() == Token::EOF)
     return "end of file";
   std::string text = t->getText();
-  if (text.size() > 40)
-    text = text.substr(0, 37) + "...";
+  if (utf8::countChars(text) > 40)
+    text = std::string(utf8::prefixChars(text, 37)) + "...";
   return "'" + text + "'";
 }
 
@@ -79,7 +135,8 @@ uint32_t tokenLength(Token *t) {
     return 1;
   std::string text = t->getText();
   size_t nl = text.find('\n');
-  return static_cast<uint32_t>(nl == std::string::npos ? text.size() : nl);
+  return static_cast<uint32_t>(
+      utf8::countChars(std::string_view(text).substr(0, nl)));
 }
 
 /// Words every syntax error itself and reports it to the sink.
@@ -113,8 +170,7 @@ protected:
     std::string expected = describeExpected(p, getExpectedTokens(p));
     if (expected.empty())
       expected = "more input";
-    sink_.report(DiagId::ErrSyntaxMissing, t->getLine(),
-                 t->getCharPositionInLine(), tokenLength(t),
+    sink_.report(DiagId::ErrSyntaxMissing, t, tokenLength(t),
                  {expected, describeToken(t)});
   }
 
@@ -130,40 +186,48 @@ private:
   void reportUnexpected(Parser *p, Token *t, const misc::IntervalSet &set) {
     std::string expected = describeExpected(p, set);
     if (expected.empty())
-      sink_.report(DiagId::ErrSyntaxUnexpected, t->getLine(),
-                   t->getCharPositionInLine(), tokenLength(t),
+      sink_.report(DiagId::ErrSyntaxUnexpected, t, tokenLength(t),
                    {describeToken(t)});
     else
-      sink_.report(DiagId::ErrSyntaxUnexpectedExpected, t->getLine(),
-                   t->getCharPositionInLine(), tokenLength(t),
+      sink_.report(DiagId::ErrSyntaxUnexpectedExpected, t, tokenLength(t),
                    {describeToken(t), expected});
   }
   ErrorSink &sink_;
 };
 
-/// Lexer errors: ANTLR says "token recognition error at: 'x'".
+/// Lexer errors, worded from the character where the failed token starts
+/// (ANTLR's message only says "token recognition error at: 'x'").
 class LexerListener : public BaseErrorListener {
 public:
-  explicit LexerListener(ErrorSink &sink) : sink_(sink) {}
-  void syntaxError(Recognizer *, Token *, size_t line, size_t col,
-                   const std::string &msg, std::exception_ptr) override {
-    std::string text;
-    size_t at = msg.find("at: '");
-    if (at != std::string::npos && msg.size() >= at + 6)
-      text = msg.substr(at + 5, msg.size() - at - 6);
-    if (text.rfind("\"", 0) == 0)
+  LexerListener(ErrorSink &sink, const SourceStream &input)
+      : sink_(sink), input_(input) {}
+  void syntaxError(Recognizer *recognizer, Token *, size_t line, size_t col,
+                   const std::string &, std::exception_ptr) override {
+    auto *lexer = dynamic_cast<Lexer *>(recognizer);
+    size_t start = lexer ? lexer->tokenStartCharIndex : 0;
+    char32_t c = input_.at(start);
+    if (utf8::isEscapedByte(c))
+      sink_.report(DiagId::ErrInvalidUtf8, line, col, 1,
+                   {fmt::format("{:02x}", utf8::escapedByte(c))});
+    else if (c == '"')
       sink_.report(DiagId::ErrLexUnterminated, line, col, 1, {"string"});
-    else if (text.rfind("/*", 0) == 0)
+    else if (c == '/' && input_.at(start + 1) == '*')
       sink_.report(DiagId::ErrLexUnterminated, line, col, 2, {"comment"});
-    else if (text.rfind("'", 0) == 0)
+    else if (c == '\'')
       sink_.report(DiagId::ErrLexBadQuotedName, line, col, 1, {});
-    else
-      sink_.report(DiagId::ErrLexInvalidChar, line, col, 1,
-                   {text.empty() ? "?" : text.substr(0, 1)});
+    else if (c < 0x20 || c == 0x7f || (c >= 0x80 && c < 0xa0))
+      sink_.report(DiagId::ErrLexControlChar, line, col, 1,
+                   {fmt::format("{:04X}", static_cast<uint32_t>(c))});
+    else {
+      std::string text;
+      utf8::append(text, c);
+      sink_.report(DiagId::ErrLexInvalidChar, line, col, 1, {text});
+    }
   }
 
 private:
   ErrorSink &sink_;
+  const SourceStream &input_;
 };
 
 /// The generated parser with a bound on rule nesting, so adversarial input
@@ -207,10 +271,10 @@ private:
 std::unique_ptr<ast::StoredDefinition>
 parseFile(uint32_t fileId, const SourceManager &sources,
           DiagnosticEngine &diags) {
-  ErrorSink sink{fileId, diags};
-  ANTLRInputStream input(sources.text(fileId));
+  ErrorSink sink{fileId, sources, diags};
+  SourceStream input(sources.text(fileId));
   lsdparser::LsdLexer lexer(&input);
-  LexerListener lexerListener(sink);
+  LexerListener lexerListener(sink, input);
   lexer.removeErrorListeners();
   lexer.addErrorListener(&lexerListener);
   CommonTokenStream tokens(&lexer);
@@ -226,13 +290,14 @@ parseFile(uint32_t fileId, const SourceManager &sources,
       Token *t = parser.deepToken;
       sink.count = 0; // always report the reason of the abort
       try {
-        sink.report(DiagId::ErrNestingTooDeep, t ? t->getLine() : 1,
-                    t ? t->getCharPositionInLine() : 0, 1,
+        sink.report(DiagId::ErrNestingTooDeep, t, 1,
                     {std::to_string(kMaxParseDepth)});
       } catch (const AbortParse &) {
       }
     }
     return nullptr;
+  } catch (const std::bad_alloc &) {
+    throw; // out of memory is not a syntax error: the driver reports it
   } catch (const std::exception &e) {
     // The runtime should not throw past its error strategy; if it does,
     // the input is still the user's problem, not a crash.
@@ -242,7 +307,7 @@ parseFile(uint32_t fileId, const SourceManager &sources,
   }
   if (sink.count != 0)
     return nullptr;
-  return buildAst(tree, fileId, sources, diags);
+  return buildAst(tree, fileId, input.chars(), diags);
 }
 
 } // namespace ldae::frontend

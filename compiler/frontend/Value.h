@@ -44,8 +44,9 @@ struct Value {
 
 /// A number that should be an integer, as messages show it.
 inline std::string fmtInteger(double v) {
-  if (v == static_cast<double>(static_cast<long long>(v)) && v > -1e15 &&
-      v < 1e15)
+  // The range test comes first: converting nan or inf is undefined.
+  if (v > -1e15 && v < 1e15 &&
+      v == static_cast<double>(static_cast<long long>(v)))
     return std::to_string(static_cast<long long>(v));
   char buf[32];
   std::snprintf(buf, sizeof buf, "%g", v);

@@ -1,4 +1,5 @@
 #include "Diagnostics.h"
+#include "Utf8.h"
 
 #include <fmt/args.h>
 #include <fmt/format.h>
@@ -91,12 +92,19 @@ static void renderOne(const SourceManager &sources, const Diagnostic &d,
   std::string_view line = sources.lineText(loc.file, loc.line);
   if (line.empty())
     return;
-  out += line;
-  out += '\n';
-  // Tabs in the source keep their width under the caret.
+  // Columns count characters, not bytes: walk the line one UTF-8 sequence
+  // at a time, printing invalid bytes as U+FFFD so the output stays valid
+  // UTF-8. Tabs in the source keep their width under the caret.
   std::string caret;
-  for (uint32_t i = 1; i < loc.col && i - 1 < line.size(); ++i)
-    caret += line[i - 1] == '\t' ? '\t' : ' ';
+  uint32_t col = 1;
+  for (size_t i = 0; i < line.size(); ++col) {
+    utf8::Char c = utf8::decodeAt(line, i);
+    utf8::append(out, c.cp);
+    if (col < loc.col)
+      caret += c.cp == '\t' ? '\t' : ' ';
+    i += c.bytes;
+  }
+  out += '\n';
   caret += '^';
   for (uint32_t i = 1; i < d.range.length; ++i)
     caret += '~';
