@@ -3,6 +3,35 @@
 
 namespace ldae::frontend::ast {
 
+namespace {
+/// Moves the subexpressions of `e` to `out`, leaving `e` without children.
+void detachChildren(Expr &e, std::vector<ExprPtr> &out) {
+  for (ExprPtr &op : e.ops)
+    out.push_back(std::move(op));
+  for (RefPart &p : e.parts)
+    for (ExprPtr &s : p.subscripts)
+      out.push_back(std::move(s));
+  for (Arg &a : e.args)
+    out.push_back(std::move(a.value));
+  for (ForIndex &it : e.iterators)
+    out.push_back(std::move(it.range));
+  for (auto &row : e.rows)
+    for (ExprPtr &x : row)
+      out.push_back(std::move(x));
+}
+} // namespace
+
+Expr::~Expr() {
+  std::vector<ExprPtr> pending;
+  detachChildren(*this, pending);
+  while (!pending.empty()) {
+    ExprPtr e = std::move(pending.back());
+    pending.pop_back();
+    if (e)
+      detachChildren(*e, pending); // `e` then dies without recursing
+  }
+}
+
 std::string Expr::refName() const {
   std::string s = global ? "." : "";
   for (size_t i = 0; i < parts.size(); ++i) {

@@ -82,6 +82,13 @@ struct Expr {
 
   /// The reference as written: `a[...].b` (subscripts elided).
   std::string refName() const;
+
+  Expr() = default;
+  Expr(Expr &&) = default;
+  Expr &operator=(Expr &&) = default;
+  /// Iterative: a chain of 300,000 products nests that deep, and the
+  /// default recursive destruction would overflow the stack.
+  ~Expr();
 };
 
 /// A modifier `[each] [final] name.path(mods) = value "comment"`.

@@ -53,6 +53,11 @@ private:
     if (!a || !b || b->getStopIndex() < a->getStartIndex())
       return 1;
     size_t begin = a->getStartIndex(), end = b->getStopIndex() + 1;
+    // On one line (the common case) no scan: scanning every node of a
+    // 100,000-term line to its end would be quadratic.
+    if (a->getLine() == b->getLine() &&
+        b->getText().find('\n') == std::string::npos)
+      return static_cast<uint32_t>(std::max<size_t>(1, end - begin));
     size_t nl = text_.find('\n', begin);
     if (nl != std::string::npos && nl < end)
       end = nl;
