@@ -77,7 +77,13 @@ std::unique_ptr<ir::Model> compileFileId(uint32_t id, const FrontendOptions &opt
   } else {
     cls = lastModel(main->classes);
     if (!cls) {
-      diags.report(DiagId::ErrNoModel, SourceLoc{}, {sources.path(id)});
+      // The file is the model's error: point into it (at its last class,
+      // or its start when it has none).
+      SourceRange where{SourceLoc{id, 1, 1}, 1};
+      if (!main->classes.empty())
+        where = SourceRange{main->classes.back()->loc,
+                            main->classes.back()->length};
+      diags.report(DiagId::ErrNoModel, where, {sources.path(id)});
       return nullptr;
     }
   }
