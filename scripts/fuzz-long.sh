@@ -14,6 +14,10 @@ if [ ! -f $build/build.ninja ]; then
   cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 fi
 cmake --build $build --target ldaec
-python3 tests/fuzz/mutate.py --ldaec $build/compiler/driver/ldaec \
-  --source-dir . --work-dir $build/tests/fuzz/long-$seed \
+# A copy: a rebuild during the run must not replace the binary under it.
+work=$build/tests/fuzz/long-$seed
+mkdir -p $work
+cp $build/compiler/driver/ldaec $work/ldaec
+python3 tests/fuzz/mutate.py --ldaec $work/ldaec \
+  --source-dir . --work-dir $work \
   --count "$count" --seed "$seed" --jobs "${JOBS:-2}"

@@ -424,6 +424,10 @@ def main():
                 run_mutant, mutants, chunksize=4):
             for stage, rc, kind, cmd, err, seconds in results:
                 counts["runs"] += 1
+                if counts["runs"] % 10000 == 0:
+                    print("... %d stage runs, %d failed, %.0f s"
+                          % (counts["runs"], len(failures),
+                             time.monotonic() - started), flush=True)
                 by_exit["timeout" if rc is None else rc] += 1
                 by_stage_time[stage] += seconds
                 if kind:
