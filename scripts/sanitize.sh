@@ -3,7 +3,8 @@
 # (gcc; any UB aborts the test that hits it). Configures build-asan/ with
 # -DLDAEC_SANITIZE=ON, builds everything, runs ctest.
 #   scripts/sanitize.sh [ctest arguments, e.g. -R lang]
-# Leak detection is on: ldaec and the tests free what they allocate.
+# Leak detection is on (the language suite, JIT runs included, reports no
+# leak); docs/hardening.md has the last results.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=build-asan
