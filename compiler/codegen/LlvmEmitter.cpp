@@ -17,12 +17,14 @@
 #include "llvm/IR/Verifier.h"
 #include "llvm/Passes/PassBuilder.h"
 #include "llvm/Support/CommandLine.h"
+#include "llvm/Support/ErrorHandling.h"
 #include "llvm/Support/TargetSelect.h"
 #include "llvm/Support/raw_ostream.h"
 #include "llvm/Target/TargetMachine.h"
 
 #include <cmath>
 #include <mutex>
+#include <unistd.h>
 
 namespace ldae::codegen {
 
@@ -590,6 +592,16 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
 void initializeLlvm() {
   static std::once_flag once;
   std::call_once(once, [] {
+    // LLVM is built without exceptions: where its own allocation fails it
+    // would abort with a trace. Say what happened in our words and exit 1,
+    // as the driver does for std::bad_alloc (docs/exit-codes.md).
+    llvm::install_bad_alloc_error_handler(
+        [](void *, const char *, bool) {
+          static const char msg[] =
+              "ldaec: error: out of memory (in LLVM code generation)\n";
+          (void)!::write(2, msg, sizeof msg - 1);
+          ::_exit(1);
+        });
     llvm::InitializeNativeTarget();
     llvm::InitializeNativeTargetAsmPrinter();
     // The post-RA list scheduler is quadratic in the memory operations of
