@@ -12,6 +12,9 @@ config.test_exec_root = os.path.join(config.ldaec_obj_root, "tests", "lang")
 
 config.environment["PATH"] = os.pathsep.join(
     [config.ldaec_bin_dir, config.ldaec_tools_dir, config.environment.get("PATH", "")])
+if getattr(config, "ldaec_sanitize", False):
+    config.available_features.add("asan")
+
 config.substitutions.append(("%ldaec", os.path.join(config.ldaec_bin_dir, "ldaec")))
 config.substitutions.append(("%stdlib", os.path.join(config.ldaec_src_root, "stdlib")))
 config.substitutions.append(("%examples", os.path.join(config.ldaec_src_root, "examples")))
