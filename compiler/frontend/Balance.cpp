@@ -4,6 +4,7 @@
 // or the equations left over (too many), with their components.
 #include "frontend/Frontend.h"
 
+#include "graph/Matching.h"
 #include "ir/Query.h"
 
 #include <algorithm>
@@ -12,60 +13,6 @@ namespace ldae::frontend {
 namespace {
 
 constexpr size_t kMaxNotes = 8;
-
-/// Maximum bipartite matching by augmenting paths (iterative DFS, so
-/// long chains do not overflow the stack). Returns eq -> unknown or -1.
-std::vector<int> maximumMatching(const std::vector<std::vector<int>> &adj,
-                                 size_t numUnknowns, std::vector<int> &matchU) {
-  std::vector<int> matchE(adj.size(), -1);
-  matchU.assign(numUnknowns, -1);
-  // Cheap greedy start.
-  for (size_t e = 0; e < adj.size(); ++e)
-    for (int u : adj[e])
-      if (matchU[u] < 0) {
-        matchU[u] = static_cast<int>(e);
-        matchE[e] = u;
-        break;
-      }
-  std::vector<unsigned> visited(numUnknowns, 0);
-  unsigned stamp = 0;
-  for (size_t root = 0; root < adj.size(); ++root) {
-    if (matchE[root] >= 0)
-      continue;
-    ++stamp;
-    // Stack of (equation, next edge index); parent unknown per level.
-    std::vector<std::pair<int, size_t>> stack{{static_cast<int>(root), 0}};
-    std::vector<int> via; // unknown used to reach stack[i + 1]
-    bool found = false;
-    while (!stack.empty() && !found) {
-      auto &[e, next] = stack.back();
-      if (next == adj[e].size()) {
-        stack.pop_back();
-        if (!via.empty())
-          via.pop_back();
-        continue;
-      }
-      int u = adj[e][next++];
-      if (visited[u] == stamp)
-        continue;
-      visited[u] = stamp;
-      if (matchU[u] < 0) {
-        // Augment along the stack.
-        via.push_back(u);
-        for (size_t i = 0; i < stack.size(); ++i) {
-          int eq = stack[i].first, un = via[i];
-          matchE[eq] = un;
-          matchU[un] = eq;
-        }
-        found = true;
-      } else {
-        via.push_back(u);
-        stack.push_back({matchU[u], 0});
-      }
-    }
-  }
-  return matchE;
-}
 
 std::string inComponent(const std::string &component) {
   return component.empty() ? "" : " in component '" + component + "'";
@@ -95,16 +42,19 @@ bool checkBalance(const ir::Model &model, DiagnosticEngine &diags,
   if (numEq == numUnknowns)
     return true;
 
-  std::vector<std::vector<int>> adj(numEq);
+  graph::BipartiteGraph g(static_cast<int>(numEq),
+                          static_cast<int>(numUnknowns));
   for (size_t e = 0; e < numEq; ++e) {
+    std::vector<int> &row = g.rows[e];
     for (ir::VarKey k : ir::freeVariables(model.equations[e].residual))
       if (unknownOf[k.var] >= 0)
-        adj[e].push_back(unknownOf[k.var]);
-    std::sort(adj[e].begin(), adj[e].end());
-    adj[e].erase(std::unique(adj[e].begin(), adj[e].end()), adj[e].end());
+        row.push_back(unknownOf[k.var]);
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
   }
-  std::vector<int> matchU;
-  std::vector<int> matchE = maximumMatching(adj, numUnknowns, matchU);
+  graph::Matching matching = graph::maximumMatching(g);
+  const std::vector<int> &matchU = matching.colMate;
+  const std::vector<int> &matchE = matching.rowMate;
 
   Diagnostic &d = diags.report(asError ? DiagId::ErrUnbalanced
                                        : DiagId::WarnUnbalanced,
