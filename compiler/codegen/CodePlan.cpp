@@ -80,16 +80,12 @@ using KeyMap = std::unordered_map<VarKey, Slot, VarKeyHash>;
 /// `slotKeys` overrides unknowns[i].key when not empty.
 KeyMap buildKeyMap(const ir::DaeSystem &sys, const std::vector<bool> &diff,
                    const std::vector<VarKey> &slotKeys = {}) {
-  auto key = [&](uint32_t i) {
-    return slotKeys.empty() ? sys.unknowns[i].key : slotKeys[i];
-  };
   KeyMap m;
   m.reserve(2 * sys.unknowns.size());
-  for (uint32_t i = 0; i < sys.unknowns.size(); ++i)
-    m.emplace(key(i), Slot{i, false});
-  for (uint32_t i = 0; i < sys.unknowns.size(); ++i)
-    if (diff[i])
-      m.emplace(VarKey{key(i).var, key(i).order + 1}, Slot{i, true});
+  ir::forEachLayoutRead(sys, slotKeys, diff,
+                        [&](VarKey k, uint32_t slot, bool derivative) {
+                          m.emplace(k, Slot{slot, derivative});
+                        });
   return m;
 }
 
@@ -705,19 +701,11 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                        });
   };
 
-  std::vector<bool> anyDiff(n, false);
-  for (const ir::StateSet &set : sys.stateSets)
-    for (unsigned i = 0; i < n; ++i)
-      anyDiff[i] = anyDiff[i] || (set.differential.empty()
-                                      ? sys.unknowns[i].differential
-                                      : set.differential[i]);
+  const std::vector<bool> anyDiff = ir::anyDifferential(sys);
 
   for (size_t s = 0; s < sys.stateSets.size(); ++s) {
     const ir::StateSet &set = sys.stateSets[s];
-    std::vector<bool> flags(n);
-    for (unsigned i = 0; i < n; ++i)
-      flags[i] = set.differential.empty() ? sys.unknowns[i].differential
-                                          : set.differential[i];
+    const std::vector<bool> flags = ir::setDifferential(sys, s);
     KeyMap keys = buildKeyMap(sys, flags, set.keys);
     StateSetPlan sp;
     sp.isDifferential.assign(flags.begin(), flags.end());

@@ -77,4 +77,29 @@ struct DaeSystem {
   std::vector<std::string> parameterNames;
 };
 
+/// Whether slot i of state set `set` is differential (a set without its
+/// own flags uses unknowns[i].differential).
+std::vector<bool> setDifferential(const DaeSystem &sys, size_t set);
+/// Whether slot i is differential in any state set: the flags under which
+/// outputs, roots and initial residuals are read.
+std::vector<bool> anyDifferential(const DaeSystem &sys);
+
+/// The layout rule, the one place it is written: calls
+/// `visit(key, slot, derivative)` for each Variable node an expression may
+/// read, slot i's own key (keys[i], or unknowns[i].key when `keys` is
+/// empty) reading y[i], then the next order of each differential slot
+/// reading y'[i]. Own keys come first: where a key appears twice, the first
+/// visit wins.
+template <typename Visit>
+void forEachLayoutRead(const DaeSystem &sys, const std::vector<VarKey> &keys,
+                       const std::vector<bool> &differential, Visit &&visit) {
+  auto key = [&](size_t i) { return keys.empty() ? sys.unknowns[i].key : keys[i]; };
+  for (size_t i = 0; i < sys.unknowns.size(); ++i)
+    visit(key(i), static_cast<uint32_t>(i), false);
+  for (size_t i = 0; i < sys.unknowns.size(); ++i)
+    if (differential[i])
+      visit(VarKey{key(i).var, key(i).order + 1}, static_cast<uint32_t>(i),
+            true);
+}
+
 } // namespace ldae::ir

@@ -96,23 +96,18 @@ ir::ExprRef VarSubstitution::apply(ir::ExprRef root) {
 }
 
 SystemLayout::SystemLayout(const ir::DaeSystem &sys, size_t set) {
-  slot_.reserve(sys.unknowns.size());
-  derivative_.reserve(sys.unknowns.size());
-  const ir::StateSet &st = sys.stateSets[set];
-  for (size_t u = 0; u < sys.unknowns.size(); ++u) {
-    ir::VarKey k = sys.unknowns[u].key;
-    slot_[code(k)] = static_cast<int>(u);
-    if (st.differential[u])
-      derivative_[code({k.var, k.order + 1})] = static_cast<int>(u);
-  }
+  reads_.reserve(2 * sys.unknowns.size());
+  ir::forEachLayoutRead(sys, sys.stateSets[set].keys,
+                        ir::setDifferential(sys, set),
+                        [&](ir::VarKey k, uint32_t slot, bool derivative) {
+                          reads_.emplace(code(k),
+                                         SlotRead{int(slot), derivative});
+                        });
 }
 
 SlotRead SystemLayout::read(ir::VarKey key) const {
-  if (auto it = slot_.find(code(key)); it != slot_.end())
-    return {it->second, false};
-  if (auto it = derivative_.find(code(key)); it != derivative_.end())
-    return {it->second, true};
-  return {};
+  auto it = reads_.find(code(key));
+  return it == reads_.end() ? SlotRead{} : it->second;
 }
 
 SystemReads systemReads(const ir::DaeSystem &sys, size_t set) {
@@ -133,10 +128,11 @@ graph::BipartiteGraph systemGraph(const ir::DaeSystem &sys, size_t set,
   const ir::StateSet &st = sys.stateSets[set];
   graph::BipartiteGraph g(static_cast<int>(st.residuals.size()),
                           static_cast<int>(sys.unknowns.size()));
+  const std::vector<bool> differential = ir::setDifferential(sys, set);
   for (size_t r = 0; r < reads.size(); ++r) {
     std::vector<int> &row = g.rows[r];
     for (SlotRead sr : reads[r]) {
-      if (solved && st.differential[sr.unknown] && !sr.derivative)
+      if (solved && differential[sr.unknown] && !sr.derivative)
         continue; // a state: known to the solver
       row.push_back(sr.unknown);
     }

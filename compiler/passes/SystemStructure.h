@@ -42,7 +42,8 @@ struct SlotRead {
   bool derivative = false; // reads y'[unknown]
 };
 
-/// Maps Variable nodes to the slots they read in state set `set`.
+/// Maps Variable nodes to the slots they read in state set `set`, by the
+/// layout rule (ir::forEachLayoutRead, shared with code generation).
 class SystemLayout {
 public:
   SystemLayout(const ir::DaeSystem &sys, size_t set);
@@ -54,8 +55,7 @@ private:
   static uint64_t code(ir::VarKey k) {
     return (static_cast<uint64_t>(k.var) << 16) | k.order;
   }
-  std::unordered_map<uint64_t, int> slot_;
-  std::unordered_map<uint64_t, int> derivative_;
+  std::unordered_map<uint64_t, SlotRead> reads_;
 };
 
 /// For each residual of state set `set`, the slots it reads (sorted).
