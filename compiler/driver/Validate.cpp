@@ -3,6 +3,7 @@
 // compile time and never leaves a half-written result behind.
 #include "Validate.h"
 
+#include "frontend/Frontend.h"
 #include "passes/Pipeline.h"
 #include "ResultWriter.h"
 #include "Simulator.h"
@@ -10,9 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <set>
 #include <sys/stat.h>
 
@@ -70,22 +69,13 @@ bool checkOutputDir(const std::string &path, const std::string &what,
 }
 
 bool checkParam(const std::string &p, DiagnosticEngine &diags) {
-  size_t eq = p.find('=');
-  std::string name = eq == std::string::npos ? "" : p.substr(0, eq);
-  while (!name.empty() && name.back() == ' ')
-    name.pop_back();
-  if (name.empty()) {
+  frontend::ParamOverride o = frontend::parseParamOverride(p);
+  if (o.name.empty()) {
     diags.report(DiagId::ErrBadOverride, SourceLoc{}, {p});
     return false;
   }
-  std::string value = p.substr(eq + 1);
-  if (value == "true" || value == "false")
-    return true;
-  char *end = nullptr;
-  errno = 0;
-  double v = std::strtod(value.c_str(), &end);
-  if (value.empty() || *end != '\0' || !std::isfinite(v) || errno == ERANGE) {
-    diags.report(DiagId::ErrParamNotNumber, SourceLoc{}, {p, value});
+  if (!o.value) {
+    diags.report(DiagId::ErrParamNotNumber, SourceLoc{}, {p, o.text});
     return false;
   }
   return true;

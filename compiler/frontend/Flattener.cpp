@@ -3,8 +3,6 @@
 // that need everything (unused overrides).
 #include "frontend/Flattener.h"
 
-#include <cstdlib>
-
 namespace ldae::frontend {
 
 Flattener::Flattener(ClassTable &classes, DiagnosticEngine &diags,
@@ -37,26 +35,12 @@ std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
   diff_ = std::make_unique<ir::Differentiator>(model_->ctx());
 
   for (const std::string &o : opts_.paramOverrides) {
-    size_t eq = o.find('=');
-    std::string name = eq == std::string::npos ? "" : o.substr(0, eq);
-    std::string text = eq == std::string::npos ? "" : o.substr(eq + 1);
-    while (!name.empty() && name.back() == ' ')
-      name.pop_back();
-    double value = 0;
-    char *end = nullptr;
-    if (text == "true")
-      value = 1;
-    else if (text == "false")
-      value = 0;
-    else
-      value = std::strtod(text.c_str(), &end);
-    bool ok = !name.empty() && !text.empty() &&
-              (text == "true" || text == "false" || (end && *end == '\0'));
-    if (!ok) {
+    ParamOverride p = parseParamOverride(o);
+    if (p.name.empty() || !p.value) {
       report(DiagId::ErrBadOverride, SourceLoc{}, {o});
       continue;
     }
-    overrides_[name] = {value, false};
+    overrides_[p.name] = {*p.value, false};
   }
 
   root_ = std::make_unique<InstNode>();

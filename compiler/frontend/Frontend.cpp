@@ -5,6 +5,10 @@
 #include "frontend/Flattener.h"
 #include "frontend/Parser.h"
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
 namespace ldae::frontend {
 namespace {
 
@@ -105,6 +109,27 @@ std::unique_ptr<ir::Model> compileFileId(uint32_t id, const FrontendOptions &opt
 }
 
 } // namespace
+
+ParamOverride parseParamOverride(const std::string &option) {
+  ParamOverride o;
+  size_t eq = option.find('=');
+  if (eq == std::string::npos)
+    return o;
+  o.name = option.substr(0, eq);
+  while (!o.name.empty() && o.name.back() == ' ')
+    o.name.pop_back();
+  o.text = option.substr(eq + 1);
+  if (o.text == "true" || o.text == "false") {
+    o.value = o.text == "true" ? 1.0 : 0.0;
+    return o;
+  }
+  char *end = nullptr;
+  errno = 0;
+  double v = std::strtod(o.text.c_str(), &end);
+  if (!o.text.empty() && *end == '\0' && std::isfinite(v) && errno != ERANGE)
+    o.value = v;
+  return o;
+}
 
 void reportLoadError(DiagnosticEngine &diags, const std::string &path,
                      LoadError error) {

@@ -7,10 +7,20 @@
 #include "support/Diagnostics.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace ldae::frontend {
+
+/// One `--param name=value`, as the driver checks it and the flattener
+/// applies it.
+struct ParamOverride {
+  std::string name;            // trailing blanks dropped; empty: no `name=`
+  std::string text;            // what follows the first '='
+  std::optional<double> value; // `true`/`false` are 1/0; none: not a finite number
+};
+ParamOverride parseParamOverride(const std::string &option);
 
 struct FrontendOptions {
   std::string modelName;                   // --model, empty = last non-partial

@@ -44,10 +44,12 @@ TEST(Diagnostics, ErrorLimitStopsReporting) {
 
 TEST(SourceManager, LinesWithoutNewlinesAndCarriageReturns) {
   SourceManager sm;
-  uint32_t f = sm.addFile("a.lsd", "one\r\ntwo\nthree");
+  // LF, CRLF and a lone CR (old Mac files) all end a line.
+  uint32_t f = sm.addFile("a.lsd", "one\r\ntwo\nthree\rfour");
   EXPECT_EQ(sm.lineText(f, 1), "one");
   EXPECT_EQ(sm.lineText(f, 2), "two");
   EXPECT_EQ(sm.lineText(f, 3), "three");
-  EXPECT_EQ(sm.lineText(f, 4), "");
+  EXPECT_EQ(sm.lineText(f, 4), "four");
+  EXPECT_EQ(sm.lineText(f, 5), "");
   EXPECT_EQ(sm.describe({f, 2, 5}), "a.lsd:2:5");
 }

@@ -39,16 +39,6 @@ TEST(Utf8, PrefixNeverCutsASequence) {
   EXPECT_EQ(utf8::prefixChars("ab", 5), "ab");
 }
 
-TEST(SourceLines, LfCrlfAndLoneCrEndLines) {
-  SourceManager sm;
-  uint32_t f = sm.addFile("m.lsd", "a\nb\r\nc\rd");
-  EXPECT_EQ(sm.lineText(f, 1), "a");
-  EXPECT_EQ(sm.lineText(f, 2), "b");
-  EXPECT_EQ(sm.lineText(f, 3), "c");
-  EXPECT_EQ(sm.lineText(f, 4), "d");
-  EXPECT_EQ(sm.lineText(f, 5), "");
-}
-
 TEST(SourceLines, EndOfTextIsOnTheLastLineWithText) {
   SourceManager sm;
   uint32_t f = sm.addFile("m.lsd", "model M\n  x = '\xc3\xa4';\n\n  \n");
