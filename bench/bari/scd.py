@@ -1,0 +1,178 @@
+#!/usr/bin/python3
+"""Significant correct digits (scd) on Andrews' squeezing mechanism and the
+car axis (Bari Test Set for IVP Solvers), SciPy's BDF on the index-reduced
+ODE form (bench/bari/problems.py) against ldaec on the index-3 models
+(tests/models/andrews.lsd, tests/models/car_axis.lsd), both at
+rtol = atol = 1e-6, 1e-8, 1e-10.
+
+scd = -log10(max relative error at the end time) over the components the
+test set's getscd uses: andrews the 7 positions, caraxis all 10 components
+(positions, velocities, multipliers); the car axis' positions-only scd is
+reported too. Reference solutions: bench/bari/reference.json.
+
+Usage: scd.py [--ldaec PATH] [--json] [--doc]
+  --json   writes bench/bari/scipy_bdf.json (SciPy's scd per problem and
+           tolerance, read by the ctest model.bari_scd)
+  --doc    writes the table into docs/validation.md
+Needs numpy and scipy (Debian: python3-scipy).
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+import problems  # noqa: E402
+
+TOLS = [1e-6, 1e-8, 1e-10]
+DOC = os.path.join(ROOT, "docs", "validation.md")
+
+
+def load_reference():
+    with open(os.path.join(HERE, "reference.json")) as f:
+        return json.load(f)
+
+
+def scd(values, ref, ncomp):
+    """The test set's scd: -log10 of the largest relative error."""
+    err = max(abs(v - r) / abs(r) for v, r in zip(values[:ncomp],
+                                                 ref[:ncomp]))
+    return -math.log10(max(err, 1e-16))
+
+
+def run_scipy(name, tol):
+    """(full end vector, seconds, steps) of BDF on the ODE form."""
+    if name == "andrews":
+        rhs, y0, t_end = problems.andrews_rhs, problems.andrews_y0(), 0.03
+    else:
+        rhs, y0, t_end = problems.caraxis_rhs, problems.caraxis_y0(), 3.0
+    start = time.perf_counter()
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="BDF", rtol=tol, atol=tol)
+    seconds = time.perf_counter() - start
+    if not sol.success:
+        raise RuntimeError("%s at tol %g: %s" % (name, tol, sol.message))
+    y = sol.y[:, -1]
+    full = (problems.andrews_full(y) if name == "andrews"
+            else problems.caraxis_full(t_end, y))
+    return full, seconds, len(sol.t) - 1
+
+
+def run_ldaec(ldaec, problem, tol):
+    """(end vector in the reference's order, seconds) of ldaec --simulate,
+    or (None, seconds, message) when it fails."""
+    model = os.path.join(ROOT, problem["model"])
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "out.csv")
+        start = time.perf_counter()
+        proc = subprocess.run(
+            [ldaec, "--no-progress", model, "--simulate", "--rtol", repr(tol),
+             "--atol", repr(tol), "--outputs", ",".join(problem["names"]),
+             "-o", out], capture_output=True, text=True, timeout=600)
+        seconds = time.perf_counter() - start
+        if proc.returncode != 0:
+            return None, seconds, proc.stderr.strip().splitlines()
+        with open(out) as f:
+            last = list(csv.DictReader(f))[-1]
+    if abs(float(last["time"]) - problem["t_end"]) > 1e-12:
+        return None, seconds, ["last row at t = %s" % last["time"]]
+    return [float(last[n]) for n in problem["names"]], seconds, []
+
+
+def measure(ldaec):
+    refs = load_reference()
+    rows = []
+    for name in ("andrews", "caraxis"):
+        problem = refs[name]
+        ref, ncomp = problem["reference"], problem["scd_components"]
+        npos = 7 if name == "andrews" else 4
+        for tol in TOLS:
+            full, secs, steps = run_scipy(name, tol)
+            row = {"problem": name, "tol": tol,
+                   "scipy_scd": scd(full, ref, ncomp),
+                   "scipy_pos_scd": scd(full, ref, npos),
+                   "scipy_seconds": secs, "scipy_steps": steps}
+            if ldaec:
+                vals, secs, err = run_ldaec(ldaec, problem, tol)
+                row["ldaec_seconds"] = secs
+                if vals is None:
+                    row["ldaec_error"] = err[-1] if err else "failed"
+                    row["ldaec_stderr"] = err
+                else:
+                    row["ldaec_scd"] = scd(vals, ref, ncomp)
+                    row["ldaec_pos_scd"] = scd(vals, ref, npos)
+            rows.append(row)
+            print(json.dumps({k: v for k, v in row.items()
+                              if k != "ldaec_stderr"}), flush=True)
+    return rows
+
+
+def table(rows):
+    lines = [
+        "| problem | rtol = atol | SciPy BDF scd | SciPy BDF time (s) "
+        "| ldaec scd | ldaec time (s) |",
+        "|---|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        if "ldaec_scd" in r:
+            ours = "%.2f" % r["ldaec_scd"]
+            if r["problem"] == "caraxis":
+                ours += " (positions %.2f)" % r["ldaec_pos_scd"]
+        else:
+            ours = "fails: %s" % r.get("ldaec_error", "not run")
+        theirs = "%.2f" % r["scipy_scd"]
+        if r["problem"] == "caraxis":
+            theirs += " (positions %.2f)" % r["scipy_pos_scd"]
+        lines.append("| %s | %g | %s | %.3f | %s | %s |" % (
+            r["problem"], r["tol"], theirs, r["scipy_seconds"], ours,
+            "%.3f" % r["ldaec_seconds"] if "ldaec_seconds" in r else "-"))
+    return "\n".join(lines)
+
+
+def write_doc(rows):
+    marker_start = "<!-- bari-scd-table -->"
+    marker_end = "<!-- /bari-scd-table -->"
+    text = open(DOC).read()
+    head, rest = text.split(marker_start, 1)
+    _, tail = rest.split(marker_end, 1)
+    stamp = "Measured %s by `bench/bari/scd.py --doc`, load average %.2f." % (
+        time.strftime("%Y-%m-%d"), os.getloadavg()[0])
+    with open(DOC, "w") as f:
+        f.write(head + marker_start + "\n" + stamp + "\n\n" + table(rows) +
+                "\n" + marker_end + tail)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--ldaec", help="the ldaec binary (omit: SciPy only)")
+    ap.add_argument("--json", action="store_true",
+                    help="write bench/bari/scipy_bdf.json")
+    ap.add_argument("--doc", action="store_true",
+                    help="write the table into docs/validation.md")
+    args = ap.parse_args()
+    rows = measure(args.ldaec)
+    print(table(rows))
+    if args.json:
+        data = {"_made_by": "bench/bari/scd.py --json (SciPy %s, BDF on the "
+                "index-reduced ODE form)" % __import__("scipy").__version__,
+                "scd": {}}
+        for r in rows:
+            data["scd"].setdefault(r["problem"], {})[repr(r["tol"])] = round(
+                r["scipy_scd"], 3)
+        with open(os.path.join(HERE, "scipy_bdf.json"), "w") as f:
+            json.dump(data, f, indent=2)
+            f.write("\n")
+    if args.doc:
+        write_doc(rows)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""End-to-end checks of ldaec on classic models that nobody on this project
+wrote, each against what its source publishes. Standard library only.
+
+Usage: check_classic.py LDAEC CASE
+Cases:
+  bari-scd      Andrews' squeezing mechanism and the car axis (Bari Test
+                Set, index 3): significant correct digits at the end time
+                at least SciPy BDF's on the index-reduced ODE form, less
+                0.5 (bench/bari/scipy_bdf.json, made by bench/bari/scd.py)
+  slider-crank  SUNDIALS' idaSlCrank_dns in index-3 form: its printed
+                q, x, p at t = 0, 0.25, ..., 10 to their printed digits
+  rc-sciml      the SciMLBenchmarks RC ladder (N = 10) at t = 10 against
+                its closed form (rc_ladder_exact.py) to 1e-6
+  fourbar       a torn nonlinear loop: the trajectory with --causalize on
+                equals the untorn one (--causalize off) to 1e-9
+Exit 1 on a failed check, 77 when a source file is missing.
+"""
+import json
+import math
+import os
+import re
+import sys
+
+from check_e2e import HERE, ROOT, SKIP, check, finish, run
+import rc_ladder_exact
+
+BARI = os.path.join(ROOT, "bench", "bari")
+SLCRANK_OUT = ("/usr/share/doc/libsundials-dev/examples/ida/serial/"
+               "idaSlCrank_dns.out")
+
+
+def model(name):
+    return os.path.join(HERE, name)
+
+
+def scd(values, ref, ncomp):
+    """The test set's scd: -log10 of the largest relative error over the
+    first ncomp components (bench/bari/scd.py computes it the same way)."""
+    err = max(abs(v - r) / abs(r) for v, r in zip(values[:ncomp],
+                                                 ref[:ncomp]))
+    return -math.log10(max(err, 1e-16))
+
+
+def bari_scd(ldaec):
+    with open(os.path.join(BARI, "reference.json")) as f:
+        refs = json.load(f)
+    with open(os.path.join(BARI, "scipy_bdf.json")) as f:
+        bdf = json.load(f)["scd"]
+    for name in ("andrews", "caraxis"):
+        prob = refs[name]
+        for tol in (1e-6, 1e-8, 1e-10):
+            _, rows, _ = run(ldaec, [
+                os.path.join(ROOT, prob["model"]), "--simulate",
+                "--rtol", repr(tol), "--atol", repr(tol),
+                "--outputs", ",".join(prob["names"])])
+            last = rows[-1]
+            check(abs(last["time"] - prob["t_end"]) <= 1e-12,
+                  "%s: the last row is at t = %g" % (name, prob["t_end"]))
+            got = scd([last[n] for n in prob["names"]], prob["reference"],
+                      prob["scd_components"])
+            want = bdf[name][repr(tol)]
+            check(got >= want - 0.5, "%s at rtol = atol = %g: scd %.2f >= "
+                  "SciPy BDF's %.2f - 0.5" % (name, tol, got, want))
+
+
+def slider_crank_rows():
+    """(t, [q, x, p] as printed) from idaSlCrank_dns.out."""
+    rows = []
+    with open(SLCRANK_OUT) as f:
+        for line in f:
+            m = re.match(r"^\s*(\S+e[+-]\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s+\d+\s+"
+                         r"\d\s+\S+\s*$", line)
+            if m:
+                rows.append((float(m.group(1)), list(m.group(2, 3, 4))))
+    return rows
+
+
+def slider_crank(ldaec):
+    if not os.path.exists(SLCRANK_OUT):
+        print("skipped: no " + SLCRANK_OUT)
+        sys.exit(SKIP)
+    ref = slider_crank_rows()
+    check(len(ref) == 41, "41 rows in idaSlCrank_dns.out (found %d)" %
+          len(ref))
+    times = ",".join(repr(t) for t, _ in ref)
+    for tol, expect_all in ((1e-6, False), (1e-8, True)):
+        _, rows, _ = run(ldaec, [
+            model("slider_crank.lsd"), "--simulate", "--rtol", repr(tol),
+            "--atol", repr(tol), "--output-times", times,
+            "--outputs", "q,x,p"])
+        rows = [r for r in rows if any(abs(r["time"] - t) < 1e-9
+                                       for t, _ in ref)]
+        check(len(rows) == len(ref), "rtol %g: a row at each of the 41 "
+              "printed times (%d)" % (tol, len(rows)))
+        differ = []
+        worst = 0
+        for r, (t, printed) in zip(rows, ref):
+            for name, text in zip(("q", "x", "p"), printed):
+                worst = max(worst, abs(r[name] - float(text)))
+                if "%.4e" % r[name] != text:
+                    differ.append("t = %g %s: %.6e printed %s" %
+                                  (t, name, r[name], text))
+        print("rtol %g: largest difference to the printed values %.2e; "
+              "%d of 123 printed values differ in the last digit%s" % (
+                  tol, worst, len(differ),
+                  (": " + "; ".join(differ[:6])) if differ else ""))
+        if expect_all:
+            check(not differ, "rtol %g: all 123 printed values reproduced "
+                  "to their 5 digits" % tol)
+
+
+def rc_sciml(ldaec):
+    n = 10
+    _, rows, _ = run(ldaec, [
+        model("rc_circuit_sciml.lsd"), "--simulate", "--param", "N=%d" % n,
+        "--rtol", "1e-10", "--atol", "1e-10",
+        "--outputs", ",".join("capacitors[%d].v" % k for k in range(1, n + 1))])
+    last = rows[-1]
+    check(abs(last["time"] - 10) < 1e-12, "the last row is at t = 10")
+    exact = rc_ladder_exact.solution(n, 10.0)
+    err = max(abs(last["capacitors[%d].v" % (k + 1)] - exact[k])
+              for k in range(n))
+    check(err <= 1e-6, "every capacitor voltage at t = 10 within 1e-6 of "
+          "the closed form (max %.2e)" % err)
+
+
+def fourbar(ldaec):
+    names = ["th2", "th3", "th4", "xC", "yC", "mu"]
+    common = [model("fourbar.lsd"), "--simulate", "--rtol", "1e-12",
+              "--atol", "1e-12", "--outputs", ",".join(names)]
+    _, torn, _ = run(ldaec, common + ["--causalize", "on"])
+    _, untorn, _ = run(ldaec, common + ["--causalize", "off"])
+    check(len(torn) == len(untorn) == 201,
+          "201 rows each (%d, %d)" % (len(torn), len(untorn)))
+    diff = max(abs(a[n] - b[n]) for a, b in zip(torn, untorn) for n in names)
+    check(diff <= 1e-9, "torn and untorn trajectories agree to 1e-9 "
+          "(max %.2e)" % diff)
+    closure = max(abs(r["xC"] - 3 - 2.5 * math.cos(r["th4"])) +
+                  abs(r["yC"] - 2.5 * math.sin(r["th4"])) for r in torn)
+    check(closure <= 1e-9, "the loop stays closed (max %.2e)" % closure)
+
+
+def main():
+    ldaec, case = sys.argv[1], sys.argv[2]
+    {"bari-scd": bari_scd, "slider-crank": slider_crank,
+     "rc-sciml": rc_sciml, "fourbar": fourbar}[case](ldaec)
+    finish()
+
+
+if __name__ == "__main__":
+    main()
