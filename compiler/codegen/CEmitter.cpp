@@ -424,6 +424,8 @@ std::string printC(const CodePlan &plan, bool withMain) {
     printArray(os, "int", p + "_colptr", sp.colptr, integer);
     printArray(os, "int", p + "_rowind", sp.rowind, integer);
   }
+  printArray(os, "int", s + "_init_colptr", plan.initColptr, integer);
+  printArray(os, "int", s + "_init_rowind", plan.initRowind, integer);
   os << "static const ldae_state_set " << s << "_state_sets[] = {\n";
   for (size_t i = 0; i < plan.stateSets.size(); ++i) {
     const StateSetPlan &sp = plan.stateSets[i];
@@ -452,7 +454,9 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << "  " << (plan.residualOrigin.empty() ? "0" : s + "_residual_origin")
      << ",\n"
      << "  " << number(plan.startTime) << ", " << number(plan.stopTime) << ", "
-     << number(plan.tolerance) << ", " << number(plan.interval) << "\n};\n\n"
+     << number(plan.tolerance) << ", " << number(plan.interval) << ",\n"
+     << "  " << plan.initRowind.size() << ", " << s << "_init_colptr, " << s
+     << "_init_rowind, " << fnRef(plan.initJacobianCsc) << "\n};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
   if (withMain) {

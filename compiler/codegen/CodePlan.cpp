@@ -609,6 +609,19 @@ static std::vector<ExprRef> planBindings(const ir::DaeSystem &sys,
   return values;
 }
 
+/// The CSC pattern (n columns) of entries in CSC order.
+void cscPattern(const std::vector<JacEntry> &entries, unsigned n,
+                std::vector<int> &colptr, std::vector<int> &rowind) {
+  colptr.assign(n + 1, 0);
+  rowind.clear();
+  for (const JacEntry &e : entries) {
+    ++colptr[e.col + 1];
+    rowind.push_back(e.row);
+  }
+  for (unsigned j = 0; j < n; ++j)
+    colptr[j + 1] += colptr[j];
+}
+
 Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                                const PlanOptions &opts) {
   const unsigned n = sys.unknowns.size();
@@ -714,13 +727,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
 
     std::vector<JacEntry> entries =
         jacobianEntries(sys, set.residuals, keys, diff);
-    sp.colptr.assign(n + 1, 0);
-    for (const JacEntry &e : entries) {
-      ++sp.colptr[e.col + 1];
-      sp.rowind.push_back(e.row);
-    }
-    for (unsigned j = 0; j < n; ++j)
-      sp.colptr[j + 1] += sp.colptr[j];
+    cscPattern(entries, n, sp.colptr, sp.rowind);
     sp.jacobianCsc = addFunction(
         "jac_csc" + suffix, FnSig::Jacobian, keys,
         [&](FunctionBuilder &b, PlanFunction &) {
@@ -749,17 +756,34 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   plan.nInit = sys.initialResiduals.size();
   plan.initResidual =
       valuesFunction("init_residual", sys.initialResiduals, keys);
-  plan.initJacobian = addFunction(
-      "init_jacobian", FnSig::InitJacobian, keys,
+  std::vector<JacEntry> initEntries =
+      jacobianEntries(sys, sys.initialResiduals, keys, diff);
+  if (useDenseJacobian(n))
+    plan.initJacobian = addFunction(
+        "init_jacobian", FnSig::InitJacobian, keys,
+        [&](FunctionBuilder &b, PlanFunction &fn) {
+          unsigned m = plan.nInit;
+          fn.zeroFill[0] = fn.zeroFill[1] = m * n;
+          for (const JacEntry &e : initEntries) {
+            if (e.dy)
+              b.store(b.lower(e.dy), 0, e.col * m + e.row, e.row);
+            if (e.dyp)
+              b.store(b.lower(e.dyp), 1, e.col * m + e.row, e.row);
+          }
+        });
+  // The sparse form: one pattern for both parts (an entry absent from one
+  // of them is stored as 0 there by the zero fill).
+  cscPattern(initEntries, n, plan.initColptr, plan.initRowind);
+  plan.initJacobianCsc = addFunction(
+      "init_jac_csc", FnSig::InitJacobian, keys,
       [&](FunctionBuilder &b, PlanFunction &fn) {
-        unsigned m = plan.nInit;
-        fn.zeroFill[0] = fn.zeroFill[1] = m * n;
-        for (const JacEntry &e :
-             jacobianEntries(sys, sys.initialResiduals, keys, diff)) {
+        fn.zeroFill[0] = fn.zeroFill[1] = initEntries.size();
+        for (uint32_t k = 0; k < initEntries.size(); ++k) {
+          const JacEntry &e = initEntries[k];
           if (e.dy)
-            b.store(b.lower(e.dy), 0, e.col * m + e.row, e.row);
+            b.store(b.lower(e.dy), 0, k, e.row);
           if (e.dyp)
-            b.store(b.lower(e.dyp), 1, e.col * m + e.row, e.row);
+            b.store(b.lower(e.dyp), 1, k, e.row);
         }
       });
   plan.nRoots = sys.roots.size();

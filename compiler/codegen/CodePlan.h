@@ -165,6 +165,9 @@ struct CodePlan {
   std::vector<StateSetPlan> stateSets;
   int initResidual = -1, initJacobian = -1, roots = -1, outputs = -1,
       drift = -1;
+  /// dG/dy and dG/dy' of the initial equations in one CSC pattern.
+  int initJacobianCsc = -1;
+  std::vector<int> initColptr, initRowind;
 
   unsigned n = 0, nInit = 0, nRoots = 0, nOutputs = 0, nDrift = 0;
   std::vector<std::string> varNames, paramNames, outputNames, residualOrigin;

@@ -13,11 +13,22 @@ const char *const *ModelTables::names(std::vector<std::string> strings) {
   return pointers_.back().data();
 }
 
+int ModelTables::pattern(const std::vector<int> &colptr,
+                         const std::vector<int> &rowind,
+                         const int *&colptrOut, const int *&rowindOut) {
+  ints_.push_back(colptr);
+  colptrOut = ints_.back().data();
+  ints_.push_back(rowind);
+  ints_.back().push_back(0); // non-null even when empty
+  rowindOut = ints_.back().data();
+  return int(rowind.size());
+}
+
 ModelTables::ModelTables(const CodePlan &plan) {
   // Reserve so pointers into the vectors of vectors stay valid.
   strings_.reserve(8);
   pointers_.reserve(8);
-  ints_.reserve(3 * plan.stateSets.size() + 1);
+  ints_.reserve(3 * plan.stateSets.size() + 3);
   name_ = plan.name;
   startY_ = plan.startY;
   startYp_ = plan.startYp;
@@ -38,6 +49,9 @@ ModelTables::ModelTables(const CodePlan &plan) {
   m.param_names = names(plan.paramNames);
   m.param_values = params_.data();
   m.n_init = plan.nInit;
+  m.init_jac_nnz =
+      pattern(plan.initColptr, plan.initRowind, m.init_jac_colptr,
+              m.init_jac_rowind);
   m.n_roots = plan.nRoots;
   m.n_outputs = plan.nOutputs;
   m.output_names = names(plan.outputNames);
@@ -54,12 +68,7 @@ ModelTables::ModelTables(const CodePlan &plan) {
     ldae_state_set s{};
     ints_.push_back(sp.isDifferential);
     s.is_differential = ints_.back().data();
-    ints_.push_back(sp.colptr);
-    s.jac_colptr = ints_.back().data();
-    ints_.push_back(sp.rowind);
-    ints_.back().push_back(0); // non-null even when empty
-    s.jac_rowind = ints_.back().data();
-    s.jac_nnz = sp.rowind.size();
+    s.jac_nnz = pattern(sp.colptr, sp.rowind, s.jac_colptr, s.jac_rowind);
     s.pivot_size = sp.pivotSize;
     descriptions_.push_back(sp.description);
     s.description = descriptions_.back().c_str();
@@ -85,6 +94,7 @@ void ModelTables::setFunctions(const CodePlan &plan,
   }
   fn(plan.initResidual, model_.init_residual);
   fn(plan.initJacobian, model_.init_jacobian);
+  fn(plan.initJacobianCsc, model_.init_jacobian_csc);
   fn(plan.roots, model_.roots);
   fn(plan.outputs, model_.outputs);
   fn(plan.drift, model_.drift);

@@ -28,6 +28,9 @@ public:
   const ldae_model &model() const { return model_; }
 
 private:
+  /// Keeps a CSC pattern alive, points the outputs at it; returns nnz.
+  int pattern(const std::vector<int> &colptr, const std::vector<int> &rowind,
+              const int *&colptrOut, const int *&rowindOut);
   /// Keeps `strings` alive and returns C pointers to them.
   const char *const *names(std::vector<std::string> strings);
 

@@ -149,9 +149,13 @@ SampleSystem pendulum() {
 
 namespace {
 
-/// chain(n); `shuffle` declares the unknowns in a scrambled order.
-SampleSystem makeChain(unsigned n, bool shuffle) {
-  Builder b((shuffle ? "shuffled_chain" : "chain") + std::to_string(n));
+/// chain(n); `shuffle` declares the unknowns in a scrambled order;
+/// `initial` adds initial equations.
+SampleSystem makeChain(unsigned n, bool shuffle, bool initial = false) {
+  Builder b((initial  ? "init_chain"
+             : shuffle ? "shuffled_chain"
+                       : "chain") +
+            std::to_string(n));
   auto &c = b.c();
   ExprRef k = b.param("k", 1.5), a = b.param("a", 0.1);
   std::vector<ExprRef> x(n);
@@ -174,6 +178,11 @@ SampleSystem makeChain(unsigned n, bool shuffle) {
     res.push_back(c.sub(b.der(x[i]), rhs));
   }
   b.singleSet(res);
+  if (initial)
+    for (unsigned i = 1; i < n; i += 2)
+      b.sys().initialResiduals.push_back(
+          c.sub(c.mul(b.der(x[i]), x[i - 1]),
+                c.mul(c.constant(0.1), c.pow(x[i], c.constant(2)))));
   b.output("x[1]", x.front());
   b.output("x[" + std::to_string(n) + "]", x.back());
   return b.take();
@@ -184,6 +193,8 @@ SampleSystem makeChain(unsigned n, bool shuffle) {
 SampleSystem chain(unsigned n) { return makeChain(n, false); }
 
 SampleSystem shuffledChain(unsigned n) { return makeChain(n, true); }
+
+SampleSystem initChain(unsigned n) { return makeChain(n, false, true); }
 
 SampleSystem logSum(unsigned n) {
   Builder b("log_sum" + std::to_string(n));

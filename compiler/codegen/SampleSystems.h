@@ -32,6 +32,10 @@ SampleSystem chain(unsigned n);
 /// over its equations read their slots from index tables, not strides.
 SampleSystem shuffledChain(unsigned n);
 
+/// chain(n) with the initial equations der(x[i]) x[i-1] = 0.1 x[i]^2 for
+/// every second i: initial-equation Jacobians in y and y'.
+SampleSystem initChain(unsigned n);
+
 /// n algebraic unknowns with residuals log(x[i]) - 1: one loop whose
 /// iterations hit a domain error where x[i] <= 0.
 SampleSystem logChain(unsigned n);

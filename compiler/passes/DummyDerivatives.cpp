@@ -15,19 +15,22 @@
 // level has small blocks whose choice depends on values (the pendulum: x or
 // y), every structurally possible choice becomes a candidate state set for
 // dynamic state selection at run time.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "graph/DulmageMendelsohn.h"
 #include "graph/Matching.h"
 #include "ir/Differentiate.h"
 #include "ir/Query.h"
+#include "numeric/Rank.h"
 
 #include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <ostream>
 #include <random>
 
 namespace ldae::passes {
@@ -55,9 +58,23 @@ struct Level {
   std::vector<std::vector<Edge>> edges; // per row, same order as g.rows
 };
 
+/// What the selection reads: the model and its start point (context), the
+/// canonical unknowns (matching) and the augmented rows (pantelides).
+struct SelectionInput {
+  PassContext &ctx;
+  ir::Model &model;
+  const std::vector<ir::VarId> &unknowns;
+  const std::vector<int> &unknownIndex;
+  const std::vector<int> &equations;
+  const std::vector<Row> &rows;
+  const std::vector<int> &highest;
+  int maxTimes;
+  ir::EvalEnv startEnv() const { return ctx.startEnv(); }
+};
+
 class Selector {
 public:
-  explicit Selector(AnalysisState &s) : s_(s), diff_(s.model.ctx()) {}
+  explicit Selector(const SelectionInput &s) : s_(s), diff_(s.model.ctx()) {}
 
   void buildLevels();
   /// A full selection; `topOverride` forces top-level pairs (row, col).
@@ -102,7 +119,7 @@ private:
   bool fixDense(Level &lv, int levelIndex, graph::Matching &m,
                 const std::vector<char> &forcedCol);
 
-  AnalysisState &s_;
+  SelectionInput s_;
   mutable ir::Differentiator diff_;
   std::vector<Level> levels_;
 };
@@ -253,9 +270,7 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
     Eigen::MatrixXd S(nr, nr);
     for (int k = 0; k < nr; ++k)
       S.col(k) = A.col(colPos[sel[k]]);
-    Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
-    lu.setThreshold(1e-10);
-    if (lu.rank() == nr)
+    if (numeric::isNonsingular(S, numeric::kNonsingularThreshold))
       continue;
     // Rank columns by stateSelect then name (the magnitude is what pivoting
     // measures here).
@@ -453,7 +468,7 @@ void Selector::findAmbiguous() {
           S.col(k) = A.col(pick[k]);
           cols.push_back(piece.cols[pick[k]]);
         }
-        if (Eigen::FullPivLU<Eigen::MatrixXd>(S).rank() == nr)
+        if (numeric::isNonsingular(S))
           amb.alternatives.push_back(cols);
         return;
       }
@@ -511,33 +526,43 @@ std::vector<ir::ExprRef> Selector::pivot(const std::vector<int> &topSel,
   return M;
 }
 
-} // namespace
+class DummyDerivativesPass
+    : public TypedPass<DummyDerivativesPass,
+                       Reads<MatchingResult, IndexReduction>, Updates<>,
+                       Produces<DummyChoices>> {
+public:
+  DummyDerivativesPass() : TypedPass(PassId::DummyDerivatives) {}
 
-bool runDummyDerivatives(AnalysisState &s) {
-  s.choices.clear();
-  s.pivots.clear();
-  s.pivotSizes.clear();
-  const bool raw = s.opts.method == "raw";
-  if (raw || s.maxTimes == 0) {
-    DummyChoice none(s.unknowns.size());
+  bool runOn(PassContext &ctx, const MatchingResult &mr,
+             const IndexReduction &red, DummyChoices &out);
+  void print(PassContext &ctx, ResultStore &results,
+             std::ostream &out) const override;
+};
+
+bool DummyDerivativesPass::runOn(PassContext &ctx, const MatchingResult &mr,
+                                 const IndexReduction &red,
+                                 DummyChoices &out) {
+  if (red.maxTimes == 0) {
+    DummyChoice none(mr.unknowns.size());
     for (size_t j = 0; j < none.size(); ++j)
-      none[j] = (raw ? s.originalOrder[j] : s.highest[j]) + 1;
-    s.choices.push_back(none);
-    s.pivots.emplace_back();
-    s.pivotSizes.push_back(0);
-    return buildSystem(s);
+      none[j] = red.highest[j] + 1;
+    out.choices.push_back(none);
+    out.pivots.emplace_back();
+    out.pivotSizes.push_back(0);
+    return true;
   }
 
-  Selector sel(s);
+  Selector sel({ctx, ctx.model, mr.unknowns, mr.unknownIndex, mr.equations,
+                red.rows, red.highest, red.maxTimes});
   sel.buildLevels();
   std::vector<std::vector<int>> first = sel.choose({}, true);
   if (first.empty()) {
-    s.diags.report(DiagId::ErrIndexReductionFailed, s.model.loc,
+    ctx.diags.report(DiagId::ErrIndexReductionFailed, ctx.model.loc,
                    {sel.failure});
     return false;
   }
   if (!sel.failure.empty())
-    s.diags.report(DiagId::WarnDummySelectionAtStart, s.model.loc,
+    ctx.diags.report(DiagId::WarnDummySelectionAtStart, ctx.model.loc,
                    {sel.failure});
   sel.findAmbiguous();
   std::vector<std::vector<std::vector<int>>> selections{first};
@@ -577,59 +602,86 @@ bool runDummyDerivatives(AnalysisState &s) {
     }
   }
   for (const auto &choice : selections) {
-    s.choices.push_back(sel.toChoice(choice));
+    out.choices.push_back(sel.toChoice(choice));
     unsigned size = 0;
     if (sel.ambiguous.empty()) {
-      s.pivots.emplace_back();
+      out.pivots.emplace_back();
     } else {
-      s.pivots.push_back(sel.pivot(choice.back(), size));
+      out.pivots.push_back(sel.pivot(choice.back(), size));
     }
-    s.pivotSizes.push_back(size);
+    out.pivotSizes.push_back(size);
   }
 
   // The chosen set must be well conditioned at the start point.
-  if (s.pivotSizes[0] > 0) {
-    const unsigned m = s.pivotSizes[0];
+  if (out.pivotSizes[0] > 0) {
+    const unsigned m = out.pivotSizes[0];
     Eigen::MatrixXd P(m, m);
-    ir::EvalEnv env = s.startEnv();
+    ir::EvalEnv env = ctx.startEnv();
     for (unsigned k = 0; k < m * m; ++k) {
-      auto v = ir::evaluate(s.pivots[0][k], env);
+      auto v = ir::evaluate(out.pivots[0][k], env);
       P(k % m, k / m) = v ? *v : std::numeric_limits<double>::quiet_NaN();
     }
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(P);
-    const auto &sv = svd.singularValues();
-    double cond = P.allFinite() && sv(m - 1) > 0
-                      ? sv(0) / sv(m - 1)
-                      : std::numeric_limits<double>::infinity();
+    double cond = numeric::conditionNumber(P);
     if (!(cond < 1e8)) {
       std::vector<std::string> states;
-      for (size_t j = 0; j < s.unknowns.size(); ++j)
-        if (s.choices[0][j] > 1 && s.highest[j] > 0)
-          states.push_back(s.model.variables[s.unknowns[j]].name);
-      s.diags.report(DiagId::WarnStateSelectIllConditioned, s.model.loc,
+      for (size_t j = 0; j < mr.unknowns.size(); ++j)
+        if (out.choices[0][j] > 1 && red.highest[j] > 0)
+          states.push_back(ctx.model.variables[mr.unknowns[j]].name);
+      ctx.diags.report(DiagId::WarnStateSelectIllConditioned, ctx.model.loc,
                      {quotedList(states), ir::printNumber(cond)});
     }
   }
 
   // The result must need as many dummies as there were differentiations.
-  int dummies = 0, diffs = 0;
-  for (size_t j = 0; j < s.unknowns.size(); ++j)
-    dummies += s.highest[j] + 1 - s.choices[0][j];
-  for (const DifferentiatedEquation &d : s.result.differentiated)
-    diffs += d.times;
+  // (Every row after the equations is one differentiation.)
+  int dummies = 0;
+  int diffs = static_cast<int>(red.rows.size() - mr.equations.size());
+  for (size_t j = 0; j < mr.unknowns.size(); ++j)
+    dummies += red.highest[j] + 1 - out.choices[0][j];
   if (dummies != diffs) {
-    s.diags.report(DiagId::ErrIndexReductionFailed, s.model.loc,
+    ctx.diags.report(DiagId::ErrIndexReductionFailed, ctx.model.loc,
                    {std::to_string(diffs) + " differentiations but " +
                     std::to_string(dummies) + " dummy derivatives"});
     return false;
   }
-  for (size_t j = 0; j < s.unknowns.size(); ++j) {
-    const ir::Variable &v = s.model.variables[s.unknowns[j]];
-    if (v.stateSelect == ir::StateSelect::Always && s.highest[j] > 0 &&
-        s.choices[0][j] <= s.highest[j] && s.choices[0][j] <= 1)
-      s.diags.report(DiagId::WarnStateSelectAlways, v.loc, {v.name});
+  for (size_t j = 0; j < mr.unknowns.size(); ++j) {
+    const ir::Variable &v = ctx.model.variables[mr.unknowns[j]];
+    if (v.stateSelect == ir::StateSelect::Always && red.highest[j] > 0 &&
+        out.choices[0][j] <= red.highest[j] && out.choices[0][j] <= 1)
+      ctx.diags.report(DiagId::WarnStateSelectAlways, v.loc, {v.name});
   }
-  return buildSystem(s);
+  return true;
+}
+
+// Before build-system names the slots: each candidate set's states and
+// dummy derivatives in the model's own names.
+void DummyDerivativesPass::print(PassContext &ctx, ResultStore &results,
+                                 std::ostream &out) const {
+  const MatchingResult &mr = results.get<MatchingResult>();
+  const IndexReduction &red = results.get<IndexReduction>();
+  const DummyChoices &dc = results.get<DummyChoices>();
+  for (size_t set = 0; set < dc.choices.size(); ++set) {
+    std::vector<std::string> states, dummies;
+    for (size_t j = 0; j < mr.unknowns.size(); ++j) {
+      const int d = red.highest[j], lowest = dc.choices[set][j];
+      for (int k = 0; k <= d; ++k) {
+        std::string name = ctx.model.variableName(
+            ir::VarKey{mr.unknowns[j], static_cast<unsigned>(k)});
+        if (k + 1 <= d && k + 1 < lowest)
+          states.push_back(name);
+        else if (k >= 1 && k >= lowest)
+          dummies.push_back(name);
+      }
+    }
+    out << "// state set " << set << ": states " << quotedList(states)
+        << "; dummy derivatives " << quotedList(dummies) << "\n";
+  }
+}
+
+} // namespace
+
+std::unique_ptr<Pass> createDummyDerivativesPass() {
+  return std::make_unique<DummyDerivativesPass>();
 }
 
 } // namespace ldae::passes

@@ -13,8 +13,8 @@
 #include "graph/DulmageMendelsohn.h"
 #include "graph/Matching.h"
 #include "ir/Query.h"
-
-#include <Eigen/Dense>
+#include "numeric/Newton.h"
+#include "numeric/Rank.h"
 
 #include <algorithm>
 #include <cmath>
@@ -64,44 +64,37 @@ Eigen::VectorXd evalRows(const AnalysisState &s, const InitSystem &is,
   return r;
 }
 
-/// Finite-difference Jacobian of `rows` with respect to `cols` at `x`.
-Eigen::MatrixXd jacobian(const AnalysisState &s, const InitSystem &is,
-                         const SystemLayout &layout,
-                         const std::vector<int> &rows,
-                         const std::vector<int> &cols, std::vector<double> x) {
-  Eigen::VectorXd r0 = evalRows(s, is, layout, rows, x);
-  Eigen::MatrixXd J(rows.size(), cols.size());
-  for (size_t k = 0; k < cols.size(); ++k) {
-    double h = 1e-7 * std::max(1.0, std::fabs(x[cols[k]]));
-    x[cols[k]] += h;
-    J.col(k) = (evalRows(s, is, layout, rows, x) - r0) / h;
-    x[cols[k]] -= h;
-  }
-  return J;
+/// `rows` as a function of the values of `cols` (the other columns at
+/// their start values), for compiler/numeric.
+numeric::ResidualFn rowsFunction(const AnalysisState &s, const InitSystem &is,
+                                 const SystemLayout &layout,
+                                 const std::vector<int> &rows,
+                                 const std::vector<int> &cols) {
+  return [&, x = is.start](const Eigen::VectorXd &v,
+                           Eigen::VectorXd &r) mutable {
+    for (size_t k = 0; k < cols.size(); ++k)
+      x[cols[k]] = v[k];
+    r = evalRows(s, is, layout, rows, x);
+    return true; // a NaN row is a failed evaluation for the caller
+  };
 }
 
-/// Gauss–Newton on `rows` over `cols`; true if they can all hold.
+/// The start values of `cols`.
+Eigen::VectorXd startOf(const InitSystem &is, const std::vector<int> &cols) {
+  Eigen::VectorXd x(cols.size());
+  for (size_t k = 0; k < cols.size(); ++k)
+    x[k] = is.start[cols[k]];
+  return x;
+}
+
+/// Gauss–Newton on `rows` over `cols` from the start values (residuals
+/// below 1e-9 in the units of the unknowns); true if they can all hold.
 bool solvable(const AnalysisState &s, const InitSystem &is,
               const SystemLayout &layout, const std::vector<int> &rows,
               const std::vector<int> &cols) {
-  std::vector<double> x = is.start;
-  for (int it = 0; it < 50; ++it) {
-    Eigen::VectorXd r = evalRows(s, is, layout, rows, x);
-    if (!r.allFinite())
-      return false;
-    double scale = 1;
-    for (int c : cols)
-      scale = std::max(scale, std::fabs(x[c]));
-    if (r.lpNorm<Eigen::Infinity>() < 1e-9 * scale)
-      return true;
-    Eigen::MatrixXd J = jacobian(s, is, layout, rows, cols, x);
-    Eigen::VectorXd dx = J.completeOrthogonalDecomposition().solve(-r);
-    if (!dx.allFinite())
-      return false;
-    for (size_t k = 0; k < cols.size(); ++k)
-      x[cols[k]] += dx[k];
-  }
-  return false;
+  Eigen::VectorXd x = startOf(is, cols);
+  return numeric::gaussNewton(rowsFunction(s, is, layout, rows, cols), {}, x)
+      .converged();
 }
 
 } // namespace
@@ -277,14 +270,15 @@ bool runInitialization(AnalysisState &s) {
       rows[r] = r;
     for (int c = 0; c < is.g.numCols; ++c)
       cols[c] = c;
-    Eigen::MatrixXd J = jacobian(s, is, layout, rows, cols, is.start);
-    if (J.allFinite()) {
+    numeric::ResidualFn f = rowsFunction(s, is, layout, rows, cols);
+    Eigen::VectorXd x = startOf(is, cols), r0;
+    Eigen::MatrixXd J;
+    f(x, r0);
+    if (numeric::finiteDifferenceJacobian(f, x, r0, J) && J.allFinite()) {
       // Add the fixed rows one by one after the residuals.
       Eigen::MatrixXd base = J.topRows(firstFixed);
       auto rankOf = [](const Eigen::MatrixXd &A) {
-        Eigen::FullPivLU<Eigen::MatrixXd> lu(A);
-        lu.setThreshold(1e-9);
-        return static_cast<int>(lu.rank());
+        return numeric::numericRank(A, 1e-9);
       };
       int rank = rankOf(base);
       std::vector<std::string> dependent;

@@ -14,10 +14,8 @@
 // so the start vector moves only along T, by the smallest step in the
 // nominal-scaled norm within T.
 #include "ConsistentInit.h"
-#include "SparseLu.h"
-#include "WongSequence.h"
-
-#include <Eigen/LU>
+#include "numeric/Rank.h"
+#include "numeric/WongSequence.h"
 
 #include <algorithm>
 #include <cmath>
@@ -72,11 +70,7 @@ bool isPlainIndexOneDense(const ModelEval &ev, int set, double t,
   }
   // A rank-revealing LU: an order of magnitude cheaper than an SVD, which
   // dominated start-up for models of a few hundred unknowns.
-  if (n == 0)
-    return true;
-  Eigen::FullPivLU<MatrixXd> lu(M);
-  lu.setThreshold(kIndexOneRankTol);
-  return lu.rank() == n;
+  return numeric::isNonsingular(M, kIndexOneRankTol);
 }
 
 /// The nominal-scaled index-1 iteration matrix M = [E_d D_d, F_a D_a]
@@ -291,16 +285,15 @@ public:
       return res;
     }
     if (ni > 0) {
-      if (m_.init_residual(t_, y.data(), yp.data(), ev_.params(), g.data()) ||
-          m_.init_jacobian(t_, y.data(), yp.data(), ev_.params(), Gy.data(),
-                           Gyp.data())) {
+      if (ev_.initResidual(t_, y.data(), yp.data(), g.data()) ||
+          ev_.initJacobian(t_, y.data(), yp.data(), Gy, Gyp)) {
         res.domainError = "an initial equation";
         return res;
       }
     }
     MatrixXd Es = E * D_.asDiagonal(), Fs = Fy * D_.asDiagonal();
     int steps = 0;
-    MatrixXd T = linalg::jumpSpace(Es, -Fs, &steps);
+    MatrixXd T = numeric::jumpSpace(Es, -Fs, &steps);
     res.index = steps;
     int levels = std::max(steps - 1, 0);
 
@@ -317,7 +310,7 @@ public:
       U(freeIdx[c], c) = 1;
     MatrixXd B;
     if (mode == Mode::Jumps) {
-      B = linalg::intersect(T, U, 1e-10);
+      B = numeric::intersect(T, U, 1e-10);
       if (ni > 0 && !freeDiff.empty()) {
         // Initial equations may tie differential values too; those move
         // as little as the equations allow.
@@ -326,7 +319,7 @@ public:
         Bd.rightCols(freeDiff.size()).setZero();
         for (size_t c = 0; c < freeDiff.size(); ++c)
           Bd(freeDiff[c], B.cols() + c) = 1;
-        B = linalg::rangeBasis(Bd, 1e-10);
+        B = numeric::rangeBasis(Bd, 1e-10);
       }
     } else {
       B = U;

@@ -46,6 +46,13 @@ struct InitOutcome {
   std::string failure;       ///< when !ok: which equations cannot be met
   int domainRow = -1;        ///< when !ok: residual row of a domain error
   std::vector<double> domainY; ///< the unknowns at that domain error
+  /// False when the method does not apply to the model (see SparseInit.h);
+  /// `failure` then says why.
+  bool applicable = true;
+  int moved = 0; ///< sparse path: differential values the conditions move
+                 ///< (fixed ones not counted)
+  int kept = 0;  ///< sparse path: differential values kept at their start
+  int projected = 0; ///< sparse path: in minimum-norm blocks
 };
 
 /// For a state set with the plain index-1 structure: Newton iteration on

@@ -128,6 +128,36 @@ int ModelEval::jacobianPartsCsc(int k, double t, const double *y,
   return 0;
 }
 
+int ModelEval::initJacobianCsc(double t, const double *y, const double *yp,
+                               std::vector<double> &gy,
+                               std::vector<double> &gyp) const {
+  gy.assign(m_.init_jac_nnz, 0.0);
+  gyp.assign(m_.init_jac_nnz, 0.0);
+  if (m_.n_init == 0)
+    return 0;
+  return m_.init_jacobian_csc(t, y, yp, p_.data(), gy.data(), gyp.data());
+}
+
+int ModelEval::initJacobian(double t, const double *y, const double *yp,
+                            Eigen::MatrixXd &Gy, Eigen::MatrixXd &Gyp) const {
+  int ni = m_.n_init, n = m_.n;
+  Gy.setZero(ni, n);
+  Gyp.setZero(ni, n);
+  if (ni == 0)
+    return 0;
+  if (m_.init_jacobian)
+    return m_.init_jacobian(t, y, yp, p_.data(), Gy.data(), Gyp.data());
+  std::vector<double> gy, gyp;
+  if (int rc = initJacobianCsc(t, y, yp, gy, gyp))
+    return rc;
+  for (int c = 0; c < n; ++c)
+    for (int q = m_.init_jac_colptr[c]; q < m_.init_jac_colptr[c + 1]; ++q) {
+      Gy(m_.init_jac_rowind[q], c) = gy[q];
+      Gyp(m_.init_jac_rowind[q], c) = gyp[q];
+    }
+  return 0;
+}
+
 std::string ModelEval::varName(int i) const {
   if (m_.var_names && m_.var_names[i])
     return m_.var_names[i];

@@ -4,14 +4,17 @@
 // neither), names and source locations for messages.
 #pragma once
 
-#include "SparseLu.h"
 #include "ldae/model.h"
+#include "numeric/SparseLu.h"
 
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
 
 namespace ldae::runtime {
+
+using numeric::CscMatrix;
+using numeric::SparseLu;
 
 class ModelEval {
 public:
@@ -42,6 +45,24 @@ public:
   /// jacobianParts in one shared CSC pattern, O(nnz) for a CSC model.
   int jacobianPartsCsc(int k, double t, const double *y, const double *yp,
                        CscMatrix &Fy, CscMatrix &E) const;
+
+  /// g = G(t, y, y'), the initial equations (n_init values).
+  int initResidual(double t, const double *y, const double *yp,
+                   double *g) const {
+    return m_.init_residual(t, y, yp, p_.data(), g);
+  }
+  /// dG/dy and dG/dy' as dense n_init x n matrices (from the dense
+  /// function, or scattered from the CSC one above the threshold).
+  int initJacobian(double t, const double *y, const double *yp,
+                   Eigen::MatrixXd &Gy, Eigen::MatrixXd &Gyp) const;
+  /// Whether the model gives the initial equations' CSC Jacobian.
+  bool hasInitJacobianCsc() const {
+    return m_.n_init == 0 ||
+           (m_.init_jacobian_csc && m_.init_jac_colptr && m_.init_jac_rowind);
+  }
+  /// dG/dy and dG/dy' values in the model's init CSC pattern.
+  int initJacobianCsc(double t, const double *y, const double *yp,
+                      std::vector<double> &gy, std::vector<double> &gyp) const;
 
   /// The unknown's name ("y[3]" when the model has none).
   std::string varName(int i) const;

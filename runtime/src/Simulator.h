@@ -54,6 +54,7 @@ struct SimStats {
   long rootsFound = 0;
   double maxDrift = 0; ///< largest |model.drift| seen at output points
   double wallTime = 0; ///< seconds, initialization included
+  double initTime = 0; ///< seconds spent finding the initial point
   bool sparse = false; ///< KLU (true) or dense LU (false)
   int n = 0;           ///< unknowns
 };

@@ -1,6 +1,7 @@
 // Conditioning of state sets' pivot matrices and the switching rule (see
 // StateSelection.h).
 #include "StateSelection.h"
+#include "numeric/Rank.h"
 
 #include <cmath>
 #include <limits>
@@ -22,9 +23,9 @@ std::vector<double> pivotConditions(const ModelEval &ev, double t,
       smin[k] = -1; // cannot be evaluated: never prefer it
       continue;
     }
-    Eigen::VectorXd sv = M.jacobiSvd().singularValues();
-    smax = std::max(smax, sv(0));
-    smin[k] = sv(sv.size() - 1);
+    numeric::SingularRange sv = numeric::singularRange(M);
+    smax = std::max(smax, sv.max);
+    smin[k] = sv.min;
   }
   for (int k = 0; k < m.n_state_sets; ++k) {
     const ldae_state_set &s = m.state_sets[k];

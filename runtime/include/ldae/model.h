@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 1
+#define LDAE_ABI_VERSION 2
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -43,7 +43,9 @@ typedef int (*ldae_roots_fn)(double t, const double *y, const double *yp,
 typedef int (*ldae_outputs_fn)(double t, const double *y, const double *yp,
                                const double *p, double *out);
 /* Initialization: r = extra conditions at the start (initial equations),
-   and their Jacobians w.r.t. y and y' (dense, n_init x n, column-major). */
+   and their Jacobians w.r.t. y and y': dense (n_init x n, column-major,
+   into Jy and Jyp), or CSC (the nonzeros of the struct's init pattern, in
+   pattern order, into Jy and Jyp). */
 typedef int (*ldae_init_residual_fn)(double t, const double *y,
                                      const double *yp, const double *p,
                                      double *r);
@@ -125,12 +127,22 @@ typedef struct ldae_model {
 
   /* Simulation defaults from the experiment annotation (NaN when unset). */
   double start_time, stop_time, tolerance, interval;
+
+  /* The initial equations' Jacobians dG/dy and dG/dy' in one CSC pattern
+     (n_init rows, n columns; the union of both patterns), for the sparse
+     initialization of large models. Always present; init_jacobian (dense)
+     is NULL above LDAE_DENSE_THRESHOLD unknowns, like jacobian_dense. */
+  int init_jac_nnz;
+  const int *init_jac_colptr;          /* n + 1 */
+  const int *init_jac_rowind;          /* init_jac_nnz, rows < n_init */
+  ldae_init_jacobian_fn init_jacobian_csc;
 } ldae_model;
 
-/* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobian
-   (state_sets[i].jacobian_dense, filled by every code generator); above it
-   jacobian_dense is NULL and the runtime uses jacobian_csc with KLU. The
-   CSC pattern and function are always present. */
+/* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians
+   (state_sets[i].jacobian_dense and init_jacobian, filled by every code
+   generator); above it those are NULL and the runtime uses jacobian_csc
+   and init_jacobian_csc with KLU. The CSC patterns and functions are
+   always present. */
 #define LDAE_DENSE_THRESHOLD 32
 
 #ifdef __cplusplus

@@ -190,6 +190,60 @@ TEST_P(Backends, JacobianEqualsFiniteDifferences) {
   }
 }
 
+// The initial equations' CSC Jacobian: equal to the dense one where that
+// exists, and to central differences of init_residual in y and y'.
+TEST_P(Backends, InitJacobianCscEqualsDenseAndDifferences) {
+  const ldae_model &m = jit->model();
+  const int n = m.n, ni = m.n_init;
+  ASSERT_NE(m.init_jacobian_csc, nullptr);
+  EXPECT_EQ(m.init_jacobian == nullptr, n > LDAE_DENSE_THRESHOLD);
+  for (unsigned seed = 1; seed <= 2; ++seed) {
+    Point pt = point(seed);
+    std::vector<double> jy(m.init_jac_nnz + 1), jyp(m.init_jac_nnz + 1);
+    ASSERT_EQ(m.init_jacobian_csc(pt.t, pt.y.data(), pt.yp.data(),
+                                  pt.p.data(), jy.data(), jyp.data()),
+              0);
+    std::vector<double> Sy(size_t(ni) * n, 0.0), Syp(size_t(ni) * n, 0.0);
+    for (int j = 0; j < n; ++j)
+      for (int k = m.init_jac_colptr[j]; k < m.init_jac_colptr[j + 1]; ++k) {
+        ASSERT_LT(m.init_jac_rowind[k], ni);
+        Sy[size_t(j) * ni + m.init_jac_rowind[k]] = jy[k];
+        Syp[size_t(j) * ni + m.init_jac_rowind[k]] = jyp[k];
+      }
+    if (m.init_jacobian) {
+      std::vector<double> Dy(size_t(ni) * n, 9.0), Dyp(size_t(ni) * n, 9.0);
+      ASSERT_EQ(m.init_jacobian(pt.t, pt.y.data(), pt.yp.data(), pt.p.data(),
+                                Dy.data(), Dyp.data()),
+                0);
+      EXPECT_EQ(Dy, Sy);
+      EXPECT_EQ(Dyp, Syp);
+    }
+    auto g = [&](std::vector<double> &y, std::vector<double> &yp) {
+      std::vector<double> r(ni + 1);
+      EXPECT_EQ(m.init_residual(pt.t, y.data(), yp.data(), pt.p.data(),
+                                r.data()),
+                0);
+      return r;
+    };
+    for (int j = 0; j < n; ++j)
+      for (int which = 0; which < 2; ++which) {
+        std::vector<double> y = pt.y, yp = pt.yp;
+        std::vector<double> &v = which ? yp : y;
+        double h = 1e-5 * std::max(1.0, std::fabs(v[j])), x0 = v[j];
+        v[j] = x0 + h;
+        auto rp = g(y, yp);
+        v[j] = x0 - h;
+        auto rm = g(y, yp);
+        const std::vector<double> &S = which ? Syp : Sy;
+        for (int i = 0; i < ni; ++i) {
+          double a = S[size_t(j) * ni + i], fd = (rp[i] - rm[i]) / (2 * h);
+          EXPECT_LE(std::fabs(a - fd), 1e-6 * std::max(1.0, std::fabs(a)))
+              << "d g" << i << " / d " << (which ? "y'" : "y") << j;
+        }
+      }
+  }
+}
+
 TEST_P(Backends, EmittedCEqualsJit) {
   CLibrary lib(s.sys, opts);
   ASSERT_TRUE(lib.model()) << lib.error();
@@ -214,6 +268,8 @@ const ModelCase kCases[] = {
     {"chain40_chunked", [] { return samples::chain(40); }, -1.0, 1.0, 16},
     // Large enough to be compiled as loops (kLoopMinStores).
     {"chain120_loops", [] { return samples::chain(120); }, -1.0, 1.0, 2000},
+    {"init_chain10", [] { return samples::initChain(10); }, -1.0, 1.0, 2000},
+    {"init_chain100", [] { return samples::initChain(100); }, -1.0, 1.0, 16},
     {"shuffled_chain120_loops", [] { return samples::shuffledChain(120); },
      -1.0, 1.0, 16},
     {"log_sum100_reduction", [] { return samples::logSum(100); }, 0.1, 2.0,

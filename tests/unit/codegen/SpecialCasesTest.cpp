@@ -225,11 +225,12 @@ TEST(Llvm, ModuleDefinesTheAbiFunctions) {
   ASSERT_TRUE(text) << text.error();
   for (const char *needle :
        {"i32 @builtins_residual_0(double", "@builtins_jac_csc_0(double",
-        "@builtins_init_jacobian(double", "@builtins_outputs(double",
+        "@builtins_init_jac_csc(double", "@builtins_outputs(double",
         "@llvm.sqrt.f64", "@tan(", "@atan2("})
     EXPECT_NE(text->find(needle), std::string::npos) << needle;
-  // 35 unknowns: above LDAE_DENSE_THRESHOLD, so no dense Jacobian.
+  // 35 unknowns: above LDAE_DENSE_THRESHOLD, so no dense Jacobians.
   EXPECT_EQ(text->find("@builtins_jac_dense_0"), std::string::npos);
+  EXPECT_EQ(text->find("@builtins_init_jacobian("), std::string::npos);
 }
 
 TEST(EmbeddingC, ExampleProgramCallsTheEmittedModel) {

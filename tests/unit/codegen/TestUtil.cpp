@@ -41,8 +41,13 @@ Evaluation evaluateAll(const ldae_model &m, const Point &pt) {
   add("init_residual", m.n_init,
       [&](double *o) { return m.init_residual(pt.t, y, yp, p, o); });
   size_t nj = size_t(m.n_init) * m.n;
-  add("init_jacobian", 2 * nj, [&](double *o) {
-    return m.init_jacobian(pt.t, y, yp, p, o, o + nj);
+  if (m.init_jacobian)
+    add("init_jacobian", 2 * nj, [&](double *o) {
+      return m.init_jacobian(pt.t, y, yp, p, o, o + nj);
+    });
+  size_t nz = m.init_jac_nnz;
+  add("init_jac_csc", 2 * nz, [&](double *o) {
+    return m.init_jacobian_csc(pt.t, y, yp, p, o, o + nz);
   });
   add("roots", m.n_roots, [&](double *o) { return m.roots(pt.t, y, yp, p, o); });
   add("outputs", m.n_outputs,
@@ -87,7 +92,8 @@ std::string compareMetadata(const ldae_model &a, const ldae_model &b) {
   check(a.n == b.n && a.n_params == b.n_params &&
             a.n_state_sets == b.n_state_sets && a.n_init == b.n_init &&
             a.n_roots == b.n_roots && a.n_outputs == b.n_outputs &&
-            a.n_drift == b.n_drift,
+            a.n_drift == b.n_drift && a.init_jac_nnz == b.init_jac_nnz &&
+            !a.init_jacobian == !b.init_jacobian,
         "sizes");
   if (!os.str().empty())
     return os.str();

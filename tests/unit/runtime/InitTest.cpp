@@ -3,7 +3,7 @@
 // vector along the jump space T(E, F) computed by the Wong sequence.
 #include "HandModels.h"
 #include "Simulator.h"
-#include "WongSequence.h"
+#include "numeric/WongSequence.h"
 
 #include <cmath>
 #include <gtest/gtest.h>
@@ -69,10 +69,10 @@ TEST(ConsistentInit, IndexTwoMovesAlongWongJumpSpace) {
   Eigen::MatrixXd E(3, 3), F(3, 3);
   E << 1, 0, 0, 0, 0, 1, 0, 0, 0;
   F << 0, 1, 0, 0, 1, -1, -1, 0, 0;
-  auto w = ldae::linalg::wongSequences(E, F);
+  auto w = ldae::numeric::wongSequences(E, F);
   Eigen::Vector3d shift(c, 0, 0);
   Eigen::Vector3d p =
-      ldae::linalg::projectAlong(w, Eigen::Vector3d(a, b, c3) - shift) + shift;
+      ldae::numeric::projectAlong(w, Eigen::Vector3d(a, b, c3) - shift) + shift;
   for (int i = 0; i < 3; ++i)
     EXPECT_NEAR(r.rows[0][i + 1], p(i), 1e-10);
 }

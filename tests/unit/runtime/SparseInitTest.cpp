@@ -4,6 +4,7 @@
 // T(E, F); a 2000-unknown chain initializes without dense matrices.
 #include "ConsistentInit.h"
 #include "HandModels.h"
+#include "SparseInit.h"
 #include "Simulator.h"
 
 #include <cmath>
@@ -122,4 +123,216 @@ TEST(SparseInit, LargeChainSimulatorStart) {
     ASSERT_EQ(y[i], m.start_y[i]) << i;
     ASSERT_LE(std::fabs(res[i + 1]), 1e-6) << i + 1;
   }
+}
+
+// ---- Initial equations and fixed algebraic values, sparse -------------
+// 18 pairs (x_i differential, z_i algebraic), 36 unknowns (just above
+// LDAE_DENSE_THRESHOLD): der(x_i) = -x_i + z_i, z_i = 2 x_i^2, with
+//  - initial equation der(x_0) = 0: x_0 moves from 0.4 to the root 0.5;
+//  - z_1 fixed at 0.18: x_1 moves from 0.25 to 0.3;
+//  - initial equation x_2 + x_3 = 1: a block where the matching could move
+//    either value; the minimum-norm (nominal-scaled) step moves both;
+//  - the other x_i keep their start values.
+namespace tied {
+constexpr int kPairs = 18, kN = 2 * kPairs;
+struct Store {
+  double y0[kN], yp0[kN], nominal[kN];
+  int fixed[kN], diff[kN];
+  int colptr[kN + 1], rowind[2 * kN];
+  int icolptr[kN + 1], irowind[3];
+  const char *names[kN];
+  std::string text[kN];
+  ldae_state_set set{};
+};
+
+inline int res(double, const double *y, const double *yp, const double *,
+               double *r) {
+  for (int i = 0; i < kPairs; ++i) {
+    double x = y[2 * i], z = y[2 * i + 1];
+    r[2 * i] = -x + z - yp[2 * i];
+    r[2 * i + 1] = z - 2 * x * x;
+  }
+  return 0;
+}
+inline int jacCsc(double, const double *y, const double *, const double *,
+                  double cj, double *v) {
+  for (int i = 0; i < kPairs; ++i) {
+    v[4 * i] = -1 - cj;       // d r_2i / d x_i
+    v[4 * i + 1] = -4 * y[2 * i]; // d r_2i+1 / d x_i
+    v[4 * i + 2] = 1;         // d r_2i / d z_i
+    v[4 * i + 3] = 1;         // d r_2i+1 / d z_i
+  }
+  return 0;
+}
+inline int initRes(double, const double *y, const double *yp, const double *,
+                   double *g) {
+  g[0] = yp[0];
+  g[1] = y[4] + y[6] - 1;
+  return 0;
+}
+inline int initJacCsc(double, const double *, const double *, const double *,
+                      double *gy, double *gyp) {
+  // Pattern: (row 0, col 0), (row 1, col 4), (row 1, col 6).
+  gy[0] = 0, gyp[0] = 1;
+  gy[1] = 1, gyp[1] = 0;
+  gy[2] = 1, gyp[2] = 0;
+  return 0;
+}
+
+/// The model with x_2, x_3 starting at (a, b) and x_3's nominal `nom3`;
+/// `fixFree` fixes the x_i that nothing else determines.
+inline ldae_model model(Store &s, double a, double b, double nom3,
+                        double z1 = 0.18, bool fixFree = false) {
+  for (int i = 0; i < kPairs; ++i) {
+    s.y0[2 * i] = 0.1 + 0.01 * i;
+    s.y0[2 * i + 1] = 0;
+    s.diff[2 * i] = 1;
+    s.diff[2 * i + 1] = 0;
+    s.text[2 * i] = "x[" + std::to_string(i) + "]";
+    s.text[2 * i + 1] = "z[" + std::to_string(i) + "]";
+  }
+  for (int j = 0; j < kN; ++j) {
+    s.yp0[j] = 0;
+    s.nominal[j] = 1;
+    s.fixed[j] = 0;
+    s.names[j] = s.text[j].c_str();
+    s.colptr[j] = 2 * j;
+    s.rowind[2 * j] = j - j % 2;
+    s.rowind[2 * j + 1] = j - j % 2 + 1;
+  }
+  s.colptr[kN] = 2 * kN;
+  for (int i = 4; fixFree && i < kPairs; ++i)
+    s.fixed[2 * i] = 1;
+  s.y0[0] = 0.4;
+  s.y0[2] = 0.25;
+  s.y0[3] = z1;
+  s.fixed[3] = 1;
+  s.y0[4] = a;
+  s.y0[6] = b;
+  s.nominal[6] = nom3;
+  for (int j = 0; j <= kN; ++j)
+    s.icolptr[j] = j < 1 ? 0 : j < 5 ? 1 : j < 7 ? 2 : 3;
+  s.irowind[0] = 0, s.irowind[1] = 1, s.irowind[2] = 1;
+  s.set = ldae_state_set{};
+  s.set.is_differential = s.diff;
+  s.set.residual = res;
+  s.set.jacobian_csc = jacCsc;
+  s.set.jac_nnz = 2 * kN;
+  s.set.jac_colptr = s.colptr;
+  s.set.jac_rowind = s.rowind;
+  ldae_model m = handmodels::makeModel("Tied", kN, s.names, s.y0, s.yp0,
+                                       s.nominal, s.fixed, &s.set);
+  m.n_init = 2;
+  m.init_residual = initRes;
+  m.init_jac_nnz = 3;
+  m.init_jac_colptr = s.icolptr;
+  m.init_jac_rowind = s.irowind;
+  m.init_jacobian_csc = initJacCsc;
+  return m;
+}
+} // namespace tied
+
+// Where the consistent point is unique, the sparse path lands where the
+// dense one does. (With initial equations the dense path's step is the
+// minimum norm of the moves of y and y' together, so it also moves
+// differential values no condition ties, to make y' move less; the sparse
+// path keeps those, as LANGUAGE.md says. Hence the free x_i are fixed here.)
+TEST(SparseInit, InitialEquationsAndFixedValuesAsDensePath) {
+  tied::Store s;
+  ldae_model m = tied::model(s, 0.2, 0.2, 1.0, 0.18, true);
+  ModelEval ev = evalOf(m);
+  ASSERT_TRUE(usesSparseInit(ev));
+  EXPECT_FALSE(isPlainIndexOne(ev, 0, 0.0, m.start_y, m.start_yp));
+  std::vector<double> y0 = startY(m), yp0 = startYp(m);
+  InitOutcome sparse = initializeSparse(ev, 0, 0.0, y0, yp0);
+  InitOutcome dense = initializeAlongJumps(ev, 0, 0.0, y0, yp0, nullptr);
+  ASSERT_TRUE(sparse.ok) << sparse.failure;
+  ASSERT_TRUE(dense.ok) << dense.failure;
+  EXPECT_FALSE(dense.nearestPoint);
+  // The values of the rule: x_0 at the root 0.5 of 2x^2 - x, x_1 where
+  // 2 x^2 = 0.18, the tied pair symmetric, the rest kept.
+  EXPECT_NEAR(sparse.y[0], 0.5, 1e-12);
+  EXPECT_NEAR(sparse.y[2], 0.3, 1e-12);
+  EXPECT_NEAR(sparse.y[4], 0.5, 1e-12);
+  EXPECT_NEAR(sparse.y[6], 0.5, 1e-12);
+  for (int i = 4; i < tied::kPairs; ++i)
+    EXPECT_EQ(sparse.y[2 * i], y0[2 * i]) << i;
+  EXPECT_EQ(sparse.moved, 3);
+  EXPECT_EQ(sparse.kept, 1);
+  EXPECT_EQ(sparse.projected, 1);
+  for (int j = 0; j < m.n; ++j) {
+    EXPECT_NEAR(sparse.y[j], dense.y[j], 1e-10) << j;
+    EXPECT_NEAR(sparse.yp[j], dense.yp[j], 1e-10) << j;
+  }
+  EXPECT_LE(maxResidual(ev, sparse.y, sparse.yp), 1e-12);
+}
+
+TEST(SparseInit, TiedDifferentialValuesMoveByTheMinimumNormStep) {
+  // x_2 + x_3 = 1 from (0.1, 0.3): both move by 0.3. With x_3's nominal 2
+  // the scaled distance (dx_2)^2 + (dx_3 / 2)^2 is smallest at
+  // dx_2 = 0.6 / 5, dx_3 = 4 * 0.6 / 5.
+  tied::Store s;
+  for (double nom : {1.0, 2.0}) {
+    ldae_model m = tied::model(s, 0.1, 0.3, nom);
+    ModelEval ev = evalOf(m);
+    InitOutcome init = initializeSparse(ev, 0, 0.0, startY(m), startYp(m));
+    ASSERT_TRUE(init.ok) << init.failure;
+    double d2 = 0.6 / (1 + nom * nom);
+    EXPECT_NEAR(init.y[4], 0.1 + d2, 1e-12) << nom;
+    EXPECT_NEAR(init.y[6], 0.3 + 0.6 - d2, 1e-12) << nom;
+  }
+}
+
+TEST(SparseInit, FailureNamesTheBlock) {
+  // z_1 fixed at -1: 2 x_1^2 = -1 has no real root.
+  tied::Store s;
+  ldae_model m = tied::model(s, 0.2, 0.2, 1.0, -1.0);
+  ModelEval ev = evalOf(m);
+  InitOutcome init = initializeSparse(ev, 0, 0.0, startY(m), startYp(m));
+  ASSERT_FALSE(init.ok);
+  EXPECT_TRUE(init.applicable);
+  EXPECT_NE(init.failure.find("the block of 1 equation [equation 4]"),
+            std::string::npos)
+      << init.failure;
+  EXPECT_NE(init.failure.find("iteration variables 'x[1]' (guess 0.25"),
+            std::string::npos)
+      << init.failure;
+  EXPECT_NE(init.failure.find("give start values near the solution for "
+                              "'x[1]'"),
+            std::string::npos)
+      << init.failure;
+  // Through simulate(): status 3 with that message.
+  SimOptions o;
+  o.start = 0;
+  o.stop = 0;
+  o.progress = false;
+  auto r = simulate(m, o);
+  ASSERT_TRUE(r) << r.error();
+  EXPECT_EQ(r->status, 3);
+  EXPECT_NE(r->failure.find("initialization failed at t = 0: no consistent "
+                            "initial point: the block of 1 equation"),
+            std::string::npos)
+      << r->failure;
+}
+
+TEST(SparseInit, SimulatorUsesTheSparsePath) {
+  tied::Store s;
+  ldae_model m = tied::model(s, 0.1, 0.3, 1.0);
+  SimOptions o;
+  o.start = 0;
+  o.stop = 0;
+  o.progress = false;
+  std::ostringstream log;
+  o.log = &log;
+  auto r = simulate(m, o);
+  ASSERT_TRUE(r) << r.error();
+  ASSERT_EQ(r->status, 0) << r->failure;
+  EXPECT_NE(log.str().find("sparse Newton iteration (KLU) on the residuals, "
+                           "fixed values and initial equations; 15 "
+                           "differential values kept, 3 moved by the "
+                           "conditions (1 in minimum-norm blocks)"),
+            std::string::npos)
+      << log.str();
+  EXPECT_NEAR(r->rows[0][1 + 4], 0.4, 1e-12);
+  EXPECT_NEAR(r->rows[0][1 + 6], 0.6, 1e-12);
 }

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-namespace ldae::runtime {
+namespace ldae::numeric {
 
 /// n x n, CSC; rows within a column need not be sorted (no duplicates).
 struct CscMatrix {
@@ -51,4 +51,4 @@ private:
   std::unique_ptr<Impl> impl_;
 };
 
-} // namespace ldae::runtime
+} // namespace ldae::numeric

@@ -1,12 +1,12 @@
 // KLU behind a small RAII class (see SparseLu.h).
-#include "SparseLu.h"
+#include "numeric/SparseLu.h"
 
 #include <klu.h>
 
 #include <algorithm>
 #include <cmath>
 
-namespace ldae::runtime {
+namespace ldae::numeric {
 
 double CscMatrix::maxAbs() const {
   double m = 0;
@@ -120,4 +120,4 @@ bool SparseLu::solve(double *b, bool transposed) {
 
 int SparseLu::singularColumn() const { return impl_->singularCol; }
 
-} // namespace ldae::runtime
+} // namespace ldae::numeric

@@ -8,7 +8,7 @@
 
 #include <Eigen/Dense>
 
-namespace ldae::linalg {
+namespace ldae::numeric {
 
 /// Orthonormal basis (columns) of the column space of `a`; singular values
 /// at or below `tol` count as zero.
@@ -50,4 +50,4 @@ Eigen::MatrixXd jumpSpace(const Eigen::MatrixXd &E, const Eigen::MatrixXd &F,
 /// (t in T) that lies in V.
 Eigen::VectorXd projectAlong(const WongResult &w, const Eigen::VectorXd &x);
 
-} // namespace ldae::linalg
+} // namespace ldae::numeric

@@ -2,12 +2,12 @@
 // Every subspace is carried as a matrix whose columns are an orthonormal
 // basis, so dimensions compare directly and nested sequences stop when the
 // dimension stops changing.
-#include "WongSequence.h"
+#include "numeric/WongSequence.h"
 
 #include <algorithm>
 #include <cassert>
 
-namespace ldae::linalg {
+namespace ldae::numeric {
 
 using Eigen::Index;
 using Eigen::MatrixXd;
@@ -135,4 +135,4 @@ Eigen::VectorXd projectAlong(const WongResult &w, const Eigen::VectorXd &x) {
   return w.V * c.head(w.V.cols());
 }
 
-} // namespace ldae::linalg
+} // namespace ldae::numeric

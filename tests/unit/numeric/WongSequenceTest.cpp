@@ -1,10 +1,10 @@
 // Wong sequences: jump and consistent subspaces of small pencils whose
 // Kronecker structure is known by hand.
-#include "WongSequence.h"
+#include "numeric/WongSequence.h"
 
 #include <gtest/gtest.h>
 
-using namespace ldae::linalg;
+using namespace ldae::numeric;
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
 

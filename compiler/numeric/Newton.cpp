@@ -1,0 +1,64 @@
+// Newton / Gauss–Newton iteration (see Newton.h).
+#include "numeric/Newton.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ldae::numeric {
+
+bool finiteDifferenceJacobian(const ResidualFn &f, const Eigen::VectorXd &x,
+                              const Eigen::VectorXd &r0, Eigen::MatrixXd &J,
+                              double relStep) {
+  Eigen::VectorXd xp = x, r1(r0.size());
+  J.resize(r0.size(), x.size());
+  for (Eigen::Index k = 0; k < x.size(); ++k) {
+    double h = relStep * std::max(1.0, std::fabs(x[k]));
+    xp[k] = x[k] + h;
+    bool ok = f(xp, r1);
+    xp[k] = x[k];
+    if (!ok)
+      return false;
+    J.col(k) = (r1 - r0) / h;
+  }
+  return true;
+}
+
+NewtonResult gaussNewton(const ResidualFn &f, const JacobianFn &jacobian,
+                         Eigen::VectorXd &x, const NewtonOptions &opts) {
+  NewtonResult res;
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  for (int it = 0; it < opts.maxIterations; ++it) {
+    res.iterations = it;
+    if (!f(x, r) || !r.allFinite()) {
+      res.status = NewtonStatus::EvaluationFailed;
+      return res;
+    }
+    res.residualNorm = r.size() ? r.lpNorm<Eigen::Infinity>() : 0.0;
+    double scale = std::max(1.0, x.size() ? x.lpNorm<Eigen::Infinity>() : 0);
+    if (res.residualNorm < opts.tolerance * scale) {
+      res.status = NewtonStatus::Converged;
+      return res;
+    }
+    bool ok = jacobian ? jacobian(x, J)
+                       : finiteDifferenceJacobian(f, x, r, J, opts.fdStep);
+    if (!ok || !J.allFinite()) {
+      res.status = NewtonStatus::EvaluationFailed;
+      return res;
+    }
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(J);
+    if (opts.rankThreshold > 0)
+      cod.setThreshold(opts.rankThreshold);
+    Eigen::VectorXd dx = cod.solve(-r);
+    if (!dx.allFinite()) {
+      res.status = NewtonStatus::EvaluationFailed;
+      return res;
+    }
+    x += dx;
+  }
+  res.iterations = opts.maxIterations;
+  res.status = NewtonStatus::NotConverged;
+  return res;
+}
+
+} // namespace ldae::numeric

@@ -1,0 +1,38 @@
+// Rank decisions (see Rank.h).
+#include "numeric/Rank.h"
+
+#include <limits>
+
+namespace ldae::numeric {
+
+int numericRank(const Eigen::MatrixXd &a, double threshold) {
+  if (a.size() == 0)
+    return 0;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
+  if (threshold > 0)
+    lu.setThreshold(threshold);
+  return static_cast<int>(lu.rank());
+}
+
+bool isNonsingular(const Eigen::MatrixXd &a, double threshold) {
+  return a.rows() == a.cols() && numericRank(a, threshold) == a.rows();
+}
+
+SingularRange singularRange(const Eigen::MatrixXd &a) {
+  if (a.size() == 0)
+    return {};
+  Eigen::VectorXd sv = a.jacobiSvd().singularValues();
+  return {sv(0), sv(sv.size() - 1)};
+}
+
+double conditionNumber(const Eigen::MatrixXd &a) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (a.size() == 0)
+    return 1;
+  if (!a.allFinite())
+    return inf;
+  SingularRange s = singularRange(a);
+  return s.min > 0 ? s.max / s.min : inf;
+}
+
+} // namespace ldae::numeric

@@ -1,0 +1,37 @@
+// Numeric rank decisions shared by the passes and the runtime, each with
+// its threshold stated once here rather than at every call site.
+//
+//  - numericRank: rank-revealing LU with full pivoting. A pivot counts as
+//    nonzero when |pivot| > threshold * |largest pivot|; threshold 0 means
+//    Eigen's default, machine epsilon times the matrix's larger dimension.
+//    An order of magnitude cheaper than an SVD, and exact enough for the
+//    yes/no questions asked of it (is this block nonsingular, does this
+//    row add to the rank).
+//  - conditionNumber: the 2-norm condition sigma_max / sigma_min by SVD
+//    (infinite for a singular or non-finite matrix), for the quantitative
+//    questions (how close to singular is a state set's pivot).
+#pragma once
+
+#include <Eigen/Dense>
+
+namespace ldae::numeric {
+
+/// Threshold of the index-1 and structural-nonsingularity tests.
+inline constexpr double kNonsingularThreshold = 1e-10;
+
+/// Rank of `a` by full-pivot LU (see the file comment for `threshold`).
+int numericRank(const Eigen::MatrixXd &a, double threshold = 0);
+
+/// Whether the square matrix `a` has full rank under `threshold`.
+bool isNonsingular(const Eigen::MatrixXd &a, double threshold = 0);
+
+/// The largest and smallest singular values of `a` (both 0 when empty).
+struct SingularRange {
+  double max = 0, min = 0;
+};
+SingularRange singularRange(const Eigen::MatrixXd &a);
+
+/// sigma_max / sigma_min of `a` (infinity when singular or not finite).
+double conditionNumber(const Eigen::MatrixXd &a);
+
+} // namespace ldae::numeric

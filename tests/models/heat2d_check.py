@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Checks tests/models/heat2d.lsd (SUNDIALS' idaHeat2D form).
+
+1. N = 10 (SUNDIALS' grid): the max norm of u at t = 0 and t = 0.01 equals
+   the one idaHeat2D_klu.out prints (9.75461e-01, 8.24056e-01; 6 digits).
+2. N = 40 (1,444 interior unknowns: the sparse initialization): u at
+   t = 0.01 equals the exact solution of the semi-discrete system, computed
+   here by the discrete sine transform (the eigenvectors of the 5-point
+   Laplacian with zero boundary values), to 1e-6; the log names the sparse
+   path.
+
+Usage: heat2d_check.py LDAEC MODEL. Standard library only.
+"""
+import csv
+import io
+import math
+import subprocess
+import sys
+
+failures = []
+
+
+def check(ok, what):
+    print(("ok:   " if ok else "FAIL: ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def simulate(ldaec, model, n, extra=()):
+    proc = subprocess.run(
+        [ldaec, "--no-progress", model, "--simulate", "--param", "N=%d" % n,
+         "--rtol", "1e-10", "--atol", "1e-10"] + list(extra),
+        capture_output=True, text=True, timeout=300)
+    if proc.returncode != 0:
+        sys.stderr.write(proc.stderr[-3000:])
+        check(False, "ldaec exited %d for N = %d" % (proc.returncode, n))
+        return None, proc.stderr
+    rows = [{k: float(v) for k, v in r.items()}
+            for r in csv.DictReader(io.StringIO(proc.stdout))]
+    return rows, proc.stderr
+
+
+def value(row, i, j):
+    """u[i,j] (1-based); boundary values alias elimination removed are 0."""
+    return row.get("u[%d,%d]" % (i, j), 0.0)
+
+
+def exact(n, t):
+    """The semi-discrete solution at t on the interior of an n x n grid."""
+    m = n - 2
+    dx = 1.0 / (n - 1)
+    s = [[math.sin(math.pi * k * i / (n - 1)) for i in range(1, m + 1)]
+         for k in range(1, m + 1)]
+    lam = [(2 - 2 * math.cos(math.pi * k / (n - 1))) / dx ** 2
+           for k in range(1, m + 1)]
+    x = [i * dx for i in range(1, m + 1)]
+    u0 = [[16 * a * (1 - a) * b * (1 - b) for b in x] for a in x]
+    # Coefficients c[k][l] = (2/(n-1))^2 sum_ij s[k][i] s[l][j] u0[i][j].
+    norm = (2.0 / (n - 1)) ** 2
+    tmp = [[sum(s[l][j] * u0[i][j] for j in range(m)) for l in range(m)]
+           for i in range(m)]
+    c = [[norm * sum(s[k][i] * tmp[i][l] for i in range(m)) for l in range(m)]
+         for k in range(m)]
+    for k in range(m):
+        for l in range(m):
+            c[k][l] *= math.exp(-(lam[k] + lam[l]) * t)
+    tmp = [[sum(c[k][l] * s[l][j] for l in range(m)) for j in range(m)]
+           for k in range(m)]
+    return [[sum(s[k][i] * tmp[k][j] for k in range(m)) for j in range(m)]
+            for i in range(m)]
+
+
+def main():
+    ldaec, model = sys.argv[1], sys.argv[2]
+    rows, _ = simulate(ldaec, model, 10)
+    if rows:
+        for row, ref in ((rows[0], 9.75461e-01), (rows[-1], 8.24056e-01)):
+            umax = max(abs(value(row, i, j)) for i in range(1, 11)
+                       for j in range(1, 11))
+            check(abs(umax - ref) <= 6e-6,
+                  "N = 10, t = %g: max |u| %.7f, idaHeat2D_klu.out %.6f" %
+                  (row["time"], umax, ref))
+    n = 40
+    rows, log = simulate(ldaec, model, n)
+    if rows:
+        check("sparse Newton iteration" in log,
+              "N = 40: initialized by the sparse path")
+        ref = exact(n, rows[-1]["time"])
+        err = max(abs(value(rows[-1], i + 2, j + 2) - ref[i][j])
+                  for i in range(n - 2) for j in range(n - 2))
+        check(abs(rows[-1]["time"] - 0.01) < 1e-12 and err <= 1e-6,
+              "N = 40, t = 0.01: max error vs the exact semi-discrete "
+              "solution %.2e" % err)
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
