@@ -130,9 +130,13 @@ public:
       if (!lu.factor(A_)) {
         int c = lu.singularColumn();
         out.failure = fmt::format(
-            "the initialization system is singular at the current iterate{}",
+            "the initialization system is singular {}{}",
+            iter == 0 ? "at the start values" : "at the current iterate",
             c >= 0 ? fmt::format(" (at '{}')", L_.colName(c, diff_)) : "");
         out.residual = best;
+        // Singular from the start: the structure was right but the numbers
+        // are not; the dense path (nearest point) may still find a point.
+        out.applicable = iter > 0;
         return out;
       }
       std::vector<double> dz = b_;

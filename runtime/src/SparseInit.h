@@ -28,9 +28,10 @@ namespace ldae::runtime {
 
 /// The sparse initialization of state set `set` from (y0, yp0). When the
 /// model does not have the form it handles (E not zero on the algebraic
-/// columns, a structurally singular or over-determined system, no CSC
-/// Jacobian of the initial equations) the outcome has applicable = false
-/// and the failure says why; the caller then falls back to the dense path.
+/// columns, a structurally singular or over-determined system, a system
+/// numerically singular at the start values, no CSC Jacobian of the initial
+/// equations) the outcome has applicable = false and the failure says why;
+/// the caller then falls back to the dense path.
 InitOutcome initializeSparse(const ModelEval &ev, int set, double t,
                              const std::vector<double> &y0,
                              const std::vector<double> &yp0);
