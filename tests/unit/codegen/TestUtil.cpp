@@ -124,6 +124,10 @@ std::string compareMetadata(const ldae_model &a, const ldae_model &b) {
     for (int i = 0; i < x.jac_nnz; ++i)
       check(x.jac_rowind[i] == y.jac_rowind[i], "rowind");
   }
+  for (int i = 0; i <= a.n; ++i)
+    check(a.init_jac_colptr[i] == b.init_jac_colptr[i], "init colptr");
+  for (int i = 0; i < a.init_jac_nnz; ++i)
+    check(a.init_jac_rowind[i] == b.init_jac_rowind[i], "init rowind");
   auto same = [](double u, double v) {
     return u == v || (std::isnan(u) && std::isnan(v));
   };
