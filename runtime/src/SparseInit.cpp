@@ -511,12 +511,12 @@ private:
             ? fmt::format(" and {} more", blk->size() - kListed)
             : std::string();
     return fmt::format(
-        "no consistent initial point: the block of {} equation{} [{}{}] in "
-        "{} was not solved (smallest residual reached {:.3g}); iteration "
-        "variables {}{}; give start values near the solution for {}",
+        "no consistent initial point: a block of {} equation{} was not "
+        "solved: {}{}; iteration variables {}{}; smallest residual reached "
+        "{:.3g}; give start values near the solution for {}, or check the "
+        "fixed values and initial equations",
         blk->size(), blk->size() == 1 ? "" : "s", fmt::join(rows, "; "), more,
-        fmt::join(names, ", "), best, fmt::join(vars, ", "), more,
-        fmt::join(names, ", "));
+        fmt::join(vars, ", "), more, best, fmt::join(names, ", "));
   }
 
   const ModelEval &ev_;
