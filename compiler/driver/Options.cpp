@@ -39,8 +39,13 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_flag("--algebraic-error-test", o.algebraicErrorTest,
                "keep algebraic unknowns in the solver's error test (small "
                "algebraic values get relative accuracy of their own)");
-  app.add_option("--method", o.method, "integration method")
-      ->check(CLI::IsMember({"dd", "sga", "ode", "raw"}));
+  // Checked against the spellings first, so the conversion cannot fail.
+  app.add_option_function<std::string>(
+         "--method",
+         [&o](const std::string &m) { o.method = *passes::parseMethod(m); },
+         "integration method: dd|sga|ode|raw (default dd)")
+      ->check(CLI::IsMember(std::vector<std::string>(
+          passes::kMethodSpellings.begin(), passes::kMethodSpellings.end())));
   app.add_option("--outputs", o.outputs,
                  "comma-separated variables to output (compiles only what "
                  "they need)");

@@ -1,6 +1,8 @@
 // The `ldaec` command line: every option, parsed by CLI11 into one struct.
 #pragma once
 
+#include "passes/Method.h"
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,7 +24,7 @@ struct Options {
   bool emitMain = false;                  // --main (with --emit c)
   std::string outputFile;                 // -o
   std::optional<double> startTime, stopTime, rtol, atol, interval;
-  std::string method = "dd";              // --method dd|sga|ode|raw
+  passes::Method method = passes::Method::DummyDerivatives; // --method
   std::string outputs;                    // --outputs x,y
   std::string plotFile;                   // --plot out.svg|png
   bool stats = false;                     // --stats

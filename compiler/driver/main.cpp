@@ -110,7 +110,7 @@ static int run(int argc, char **argv) {
 
   // 3. Structural analysis, index reduction, initialization (passes).
   passes::PipelineOptions passOpts;
-  passOpts.method = opts.method == "raw" ? "raw" : "dd";
+  passOpts.method = opts.method;
   passOpts.outputs = driver::splitOutputs(opts.outputs);
   passOpts.timePasses = opts.timePasses;
   passOpts.printAfter = opts.printAfter;

@@ -11,7 +11,8 @@
 // makes new aliases; connector models take two or three). Names are compared
 // once, by ranking them; a round rewrites only the equations that read an
 // eliminated variable, through a substitution memoized by node id.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "graph/Matching.h"
@@ -211,14 +212,15 @@ private:
 /// The state kept across rounds: name ranks and each equation's variables,
 /// rescanned only when a round rewrites the equation.
 struct AliasEliminator {
-  AnalysisState &s;
+  PassContext &pc;
+  AliasResult &s;
   ir::Model &m;
   const std::vector<int> &nameRank;           // by VarId: order of the names
   std::vector<std::vector<ir::VarKey>> reads; // by equation
   std::vector<char> readsPre;                 // by equation
 
-  explicit AliasEliminator(AnalysisState &s)
-      : s(s), m(s.model), nameRank(s.nameRanks()) {
+  AliasEliminator(PassContext &pc, AliasResult &s)
+      : pc(pc), s(s), m(pc.model), nameRank(pc.nameRanks()) {
     reads.resize(m.equations.size());
     readsPre.resize(m.equations.size());
     for (size_t i = 0; i < m.equations.size(); ++i)
@@ -237,8 +239,8 @@ struct AliasEliminator {
 
 /// Whether the equations can be matched to the continuous unknowns (orders
 /// merged). The size of a maximum matching does not depend on the order of
-/// rows and columns, so this skips runMatching's canonical order, which
-/// only a singular model's diagnosis needs.
+/// rows and columns, so this skips the "matching" pass's canonical order,
+/// which only a singular model's diagnosis needs.
 bool AliasEliminator::completeMatching() const {
   const size_t nv = m.variables.size();
   std::vector<int> col(nv, -1);
@@ -410,7 +412,7 @@ int AliasEliminator::eliminateOnce() {
         double st = sg * av.start;
         if (av.fixed && rv.fixed && rv.hasStart &&
             std::fabs(rv.start - st) > 1e-12 * (1 + std::fabs(st))) {
-          s.diags.report(DiagId::ErrAliasFixedConflict, av.loc,
+          pc.diags.report(DiagId::ErrAliasFixedConflict, av.loc,
                          {av.name, ir::printNumber(av.start), rv.name,
                           ir::printNumber(rv.start)});
         } else if (!rv.hasStart || (av.fixed && !rv.fixed)) {
@@ -440,12 +442,11 @@ int AliasEliminator::eliminateOnce() {
       subst.set(ctx.pre(v), ctx.mul(ctx.constant(sg), ctx.pre(rep)));
     }
   }
-  if (s.diags.hasErrors())
+  if (pc.diags.hasErrors())
     return -1;
 
   if (s.aliases.size() == before)
     return 0;
-  s.matchingCurrent = false;
   // Apply: drop the alias equations, rewrite the equations that read an
   // eliminated variable (rewriting the others would change nothing and
   // make no node), in place.
@@ -496,34 +497,44 @@ int AliasEliminator::eliminateOnce() {
     s.aliases[i].value = subst.apply(s.aliases[i].value);
   return static_cast<int>(s.aliases.size() - before);
 }
-} // namespace
 
-bool runAliasElimination(AnalysisState &s) {
-  ir::Model &m = s.model;
-  s.eliminated.assign(m.variables.size(), 0);
-  AliasEliminator elim(s);
-  // A structurally singular model is diagnosed as the user wrote it:
-  // eliminating `x = 1` would leave `2*x = 3` with no unknown at all.
-  if (!elim.completeMatching()) {
-    runMatching(s); // the canonical matching the diagnosis reads
+class AliasEliminationPass
+    : public TypedPass<AliasEliminationPass, Reads<>, Updates<>,
+                       Produces<AliasResult>> {
+public:
+  AliasEliminationPass() : TypedPass(PassId::Alias) {}
+
+  bool runOn(PassContext &ctx, AliasResult &out) {
+    ir::Model &m = ctx.model;
+    out.eliminated.assign(m.variables.size(), 0);
+    AliasEliminator elim(ctx, out);
+    // A structurally singular model is diagnosed as the user wrote it:
+    // eliminating `x = 1` would leave `2*x = 3` with no unknown at all.
+    if (!elim.completeMatching())
+      return true;
+    // Substituting aliases makes new ones (`v = p.v - n.v` with n.v = 0):
+    // repeat until a round finds none.
+    for (int found = 1; found > 0;) {
+      found = elim.eliminateOnce();
+      if (found < 0)
+        return false;
+    }
+    std::sort(out.aliases.begin(), out.aliases.end(),
+              [&](const Alias &x, const Alias &y) {
+                return elim.nameRank[x.var] < elim.nameRank[y.var];
+              });
+    ctx.report.aliasesRemoved = static_cast<int>(out.aliases.size());
+    for (const Alias &a : out.aliases)
+      ctx.report.aliases.push_back(m.variables[a.var].name + " = " +
+                                   ir::printLsd(a.value, &m));
     return true;
   }
-  // Substituting aliases makes new ones (`v = p.v - n.v` with n.v = 0):
-  // repeat until a round finds none.
-  for (int found = 1; found > 0;) {
-    found = elim.eliminateOnce();
-    if (found < 0)
-      return false;
-  }
-  std::sort(s.aliases.begin(), s.aliases.end(),
-            [&](const Alias &x, const Alias &y) {
-              return elim.nameRank[x.var] < elim.nameRank[y.var];
-            });
-  s.result.aliasesRemoved = static_cast<int>(s.aliases.size());
-  for (const Alias &a : s.aliases)
-    s.result.aliases.push_back(m.variables[a.var].name + " = " +
-                               ir::printLsd(a.value, &m));
-  return true;
+};
+
+} // namespace
+
+std::unique_ptr<Pass> createAliasEliminationPass() {
+  return std::make_unique<AliasEliminationPass>();
 }
 
 } // namespace ldae::passes

@@ -2,28 +2,24 @@
 // solves for (an algebraic unknown or a state's derivative) and orders the
 // residuals in block lower triangular form (Tarjan). A failed matching
 // means index reduction left a singular system: reported, never ignored.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "graph/Matching.h"
 #include "graph/Scc.h"
+#include "ir/Print.h"
 
 namespace ldae::passes {
 
-bool runBlt(AnalysisState &s) {
-  if (!s.haveSystem)
-    return true;
-  const ir::DaeSystem &sys = s.system;
-  s.systemGraphs.clear();
-  s.systemMatchings.clear();
-  s.systemReads.clear();
+bool bltOrder(PassContext &ctx, const ir::DaeSystem &sys, bool allowSingular,
+              BltResult &out) {
+  out = BltResult{};
   for (size_t set = 0; set < sys.stateSets.size(); ++set) {
-    s.systemReads.push_back(systemReads(sys, set));
-    graph::BipartiteGraph g = systemGraph(sys, set, s.systemReads.back(), true);
+    out.reads.push_back(systemReads(sys, set));
+    graph::BipartiteGraph g = systemGraph(sys, set, out.reads.back(), true);
     graph::Matching m = graph::maximumMatching(g);
-    // The unreduced system of `--method raw` is singular whenever the
-    // model's index exceeds one: that is what raw is for.
-    if (m.size < g.numRows() && s.opts.method != "raw") {
+    if (m.size < g.numRows() && !allowSingular) {
       // Name what is wrong, as for the model.
       SingularityNames names;
       names.rowLoc = [&](int r) {
@@ -32,23 +28,45 @@ bool runBlt(AnalysisState &s) {
                    : SourceLoc{};
       };
       names.rowText = [&](int r) {
-        return ir::printLsd(sys.stateSets[set].residuals[r], &s.model) +
+        return ir::printLsd(sys.stateSets[set].residuals[r], &ctx.model) +
                " = 0";
       };
       names.colName = [&](int c) { return sys.unknowns[c].name; };
       names.colLoc = [&](int c) { return sys.unknowns[c].loc; };
-      diagnoseSingular(s, "index-reduced system", g, m, names, {}, false);
+      diagnoseSingular(ctx, "index-reduced system", g, m, names, {}, false);
       return false;
     }
     if (set == 0) {
-      s.result.bltBlocks.clear();
+      ctx.report.bltBlocks.clear();
       for (const std::vector<int> &b : graph::bltBlocks(g, m))
-        s.result.bltBlocks.push_back(static_cast<int>(b.size()));
+        ctx.report.bltBlocks.push_back(static_cast<int>(b.size()));
     }
-    s.systemGraphs.push_back(std::move(g));
-    s.systemMatchings.push_back(std::move(m));
+    out.graphs.push_back(std::move(g));
+    out.matchings.push_back(std::move(m));
   }
   return true;
+}
+
+namespace {
+
+class BltPass : public TypedPass<BltPass, Reads<ir::DaeSystem>, Updates<>,
+                                 Produces<BltResult>> {
+public:
+  explicit BltPass(const BltOptions &opts)
+      : TypedPass(PassId::Blt), opts_(opts) {}
+
+  bool runOn(PassContext &ctx, const ir::DaeSystem &sys, BltResult &out) {
+    return bltOrder(ctx, sys, opts_.allowSingular, out);
+  }
+
+private:
+  BltOptions opts_;
+};
+
+} // namespace
+
+std::unique_ptr<Pass> createBltPass(const BltOptions &opts) {
+  return std::make_unique<BltPass>(opts);
 }
 
 } // namespace ldae::passes

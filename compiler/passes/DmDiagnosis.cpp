@@ -3,7 +3,8 @@
 // terms: which equations over-determine which unknowns ("equations at
 // pend.lsd:7 and :9 both determine only 'x'") and which unknowns nothing
 // determines. Also used for the initialization system.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 
 #include "graph/DulmageMendelsohn.h"
 
@@ -17,7 +18,7 @@ constexpr size_t kMaxNotes = 8;
 
 /// "equations at a.lsd:7 and :9" (same file shortened), with the verb.
 std::pair<std::string, std::string>
-describeRows(AnalysisState &s, const std::vector<int> &rows,
+describeRows(PassContext &s, const std::vector<int> &rows,
              const SingularityNames &names) {
   std::string list;
   uint32_t lastFile = 0;
@@ -44,7 +45,7 @@ describeRows(AnalysisState &s, const std::vector<int> &rows,
 }
 } // namespace
 
-bool diagnoseSingular(AnalysisState &s, const char *system,
+bool diagnoseSingular(PassContext &s, const char *system,
                       const graph::BipartiteGraph &g, const graph::Matching &m,
                       const SingularityNames &names,
                       const std::vector<char> &colAllowed, bool record) {
@@ -57,8 +58,8 @@ bool diagnoseSingular(AnalysisState &s, const char *system,
   std::vector<graph::DmPart> pieces = graph::connectedPieces(g, dm.over);
   if (record) {
     for (int r : dm.over.rows)
-      s.result.overDetermined.push_back(names.rowText(r));
-    s.result.underDetermined = under;
+      s.report.overDetermined.push_back(names.rowText(r));
+    s.report.underDetermined = under;
   }
   auto addNotes = [&](Diagnostic &d, const std::vector<int> &rows) {
     for (size_t i = 0; i < rows.size() && i < kMaxNotes; ++i)
@@ -113,22 +114,39 @@ bool diagnoseSingular(AnalysisState &s, const char *system,
   return true;
 }
 
-bool runDmDiagnosis(AnalysisState &s) {
-  const int rows = s.merged.numRows(), cols = s.merged.numCols;
-  if (s.mergedMatching.size == rows && s.mergedMatching.size == cols)
-    return true;
-  SingularityNames names;
-  names.rowLoc = [&](int r) {
-    return s.model.equations[s.equations[r]].loc;
-  };
-  names.rowText = [&](int r) { return s.equationText(s.equations[r]); };
-  names.colName = [&](int c) {
-    return s.model.variables[s.unknowns[c]].name;
-  };
-  names.colLoc = [&](int c) { return s.model.variables[s.unknowns[c]].loc; };
-  diagnoseSingular(s, "model", s.merged, s.mergedMatching, names, {}, true);
-  s.result.singular = true;
-  return false;
+namespace {
+
+class DmDiagnosisPass
+    : public TypedPass<DmDiagnosisPass, Reads<MatchingResult>, Updates<>,
+                       Produces<>> {
+public:
+  DmDiagnosisPass() : TypedPass(PassId::Dm) {}
+
+  bool runOn(PassContext &ctx, const MatchingResult &s) {
+    const int rows = s.merged.numRows(), cols = s.merged.numCols;
+    if (s.matching.size == rows && s.matching.size == cols)
+      return true;
+    SingularityNames names;
+    names.rowLoc = [&](int r) {
+      return ctx.model.equations[s.equations[r]].loc;
+    };
+    names.rowText = [&](int r) { return ctx.equationText(s.equations[r]); };
+    names.colName = [&](int c) {
+      return ctx.model.variables[s.unknowns[c]].name;
+    };
+    names.colLoc = [&](int c) {
+      return ctx.model.variables[s.unknowns[c]].loc;
+    };
+    diagnoseSingular(ctx, "model", s.merged, s.matching, names, {}, true);
+    ctx.report.singular = true;
+    return false;
+  }
+};
+
+} // namespace
+
+std::unique_ptr<Pass> createDmDiagnosisPass() {
+  return std::make_unique<DmDiagnosisPass>();
 }
 
 } // namespace ldae::passes

@@ -7,7 +7,8 @@
 // which to free), then checked numerically: redundant conditions that
 // agree are accepted with a warning, conflicting ones are an error. A rank
 // check at the start point catches dependencies structure cannot see.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "graph/DulmageMendelsohn.h"
@@ -39,7 +40,7 @@ struct InitSystem {
 
 /// Evaluates rows `rows` at column values `x` (columns outside `cols` at
 /// their start values).
-Eigen::VectorXd evalRows(const AnalysisState &s, const InitSystem &is,
+Eigen::VectorXd evalRows(const PassContext &s, const InitSystem &is,
                          const SystemLayout &layout,
                          const std::vector<int> &rows,
                          const std::vector<double> &x) {
@@ -66,7 +67,7 @@ Eigen::VectorXd evalRows(const AnalysisState &s, const InitSystem &is,
 
 /// `rows` as a function of the values of `cols` (the other columns at
 /// their start values), for compiler/numeric.
-numeric::ResidualFn rowsFunction(const AnalysisState &s, const InitSystem &is,
+numeric::ResidualFn rowsFunction(const PassContext &s, const InitSystem &is,
                                  const SystemLayout &layout,
                                  const std::vector<int> &rows,
                                  const std::vector<int> &cols) {
@@ -89,7 +90,7 @@ Eigen::VectorXd startOf(const InitSystem &is, const std::vector<int> &cols) {
 
 /// Gauss–Newton on `rows` over `cols` from the start values (residuals
 /// below 1e-9 in the units of the unknowns); true if they can all hold.
-bool solvable(const AnalysisState &s, const InitSystem &is,
+bool solvable(const PassContext &s, const InitSystem &is,
               const SystemLayout &layout, const std::vector<int> &rows,
               const std::vector<int> &cols) {
   Eigen::VectorXd x = startOf(is, cols);
@@ -97,19 +98,13 @@ bool solvable(const AnalysisState &s, const InitSystem &is,
       .converged();
 }
 
-} // namespace
-
-bool runInitialization(AnalysisState &s) {
-  // The unreduced system of `--method raw` has no meaningful
-  // initialization structure when the index exceeds one.
-  if (!s.haveSystem || s.opts.method == "raw")
-    return true;
-  const ir::DaeSystem &sys = s.system;
+/// The analysis of the pass, reported into `rep` as it goes (the report
+/// of a failed initialization says how far it got).
+bool analyzeInitialization(PassContext &s, const ir::DaeSystem &sys,
+                           const BltResult &blt, InitReport &rep) {
   const ir::StateSet &st = sys.stateSets[0];
   const int n = static_cast<int>(sys.unknowns.size());
   SystemLayout layout(sys, 0);
-  InitReport &rep = s.result.init;
-  rep = InitReport{};
   rep.analyzed = true;
 
   InitSystem is;
@@ -155,7 +150,7 @@ bool runInitialization(AnalysisState &s) {
   for (size_t r = 0; r < st.residuals.size(); ++r)
     addRow(st.residuals[r], -1,
            r < sys.residualLocs.size() ? sys.residualLocs[r] : SourceLoc{},
-           "", s.systemReads.empty() ? nullptr : &s.systemReads[0][r]);
+           "", blt.reads.empty() ? nullptr : &blt.reads[0][r]);
   const int firstFixed = is.g.numRows();
   for (int u = 0; u < n; ++u)
     if (sys.unknowns[u].fixed) {
@@ -297,6 +292,28 @@ bool runInitialization(AnalysisState &s) {
     }
   }
   return true;
+}
+
+// The unreduced system of `--method raw` has no meaningful initialization
+// structure when the index exceeds one: raw does not run this pass.
+class InitializationPass
+    : public TypedPass<InitializationPass, Reads<ir::DaeSystem, BltResult>,
+                       Updates<>, Produces<InitResult>> {
+public:
+  InitializationPass() : TypedPass(PassId::Init) {}
+
+  bool runOn(PassContext &ctx, const ir::DaeSystem &sys, const BltResult &blt,
+             InitResult &out) {
+    bool ok = analyzeInitialization(ctx, sys, blt, out.report);
+    ctx.report.init = out.report;
+    return ok;
+  }
+};
+
+} // namespace
+
+std::unique_ptr<Pass> createInitializationPass() {
+  return std::make_unique<InitializationPass>();
 }
 
 } // namespace ldae::passes

@@ -3,7 +3,8 @@
 // equations to unknowns with derivative orders merged. A complete matching
 // is exactly the condition under which Pantelides' algorithm ends; the
 // "dm" pass explains a failure.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "graph/Matching.h"
@@ -14,19 +15,28 @@
 
 namespace ldae::passes {
 
-bool runMatching(AnalysisState &s) {
-  if (s.matchingCurrent)
-    return true; // alias elimination changed nothing since it matched
-  ir::Model &m = s.model;
-  const size_t nv = m.variables.size();
-  if (s.eliminated.size() < nv)
-    s.eliminated.resize(nv, 0);
+namespace {
 
-  s.unknowns.clear();
+class MatchingPass
+    : public TypedPass<MatchingPass, Reads<AliasResult>, Updates<>,
+                       Produces<MatchingResult>> {
+public:
+  MatchingPass() : TypedPass(PassId::Matching) {}
+  bool runOn(PassContext &ctx, const AliasResult &alias, MatchingResult &s);
+};
+
+bool MatchingPass::runOn(PassContext &ctx, const AliasResult &alias,
+                         MatchingResult &s) {
+  ir::Model &m = ctx.model;
+  const size_t nv = m.variables.size();
+  auto eliminated = [&](ir::VarId v) {
+    return v < alias.eliminated.size() && alias.eliminated[v];
+  };
+
   for (ir::VarId v = 0; v < nv; ++v)
-    if (!s.eliminated[v] && !m.variables[v].isDiscrete)
+    if (!eliminated(v) && !m.variables[v].isDiscrete)
       s.unknowns.push_back(v);
-  const std::vector<int> &rank = s.nameRanks();
+  const std::vector<int> &rank = ctx.nameRanks();
   std::sort(s.unknowns.begin(), s.unknowns.end(),
             [&](ir::VarId a, ir::VarId b) { return rank[a] < rank[b]; });
   s.unknownIndex.assign(nv, -1);
@@ -83,9 +93,14 @@ bool runMatching(AnalysisState &s) {
     std::sort(row.begin(), row.end());
     row.erase(std::unique(row.begin(), row.end()), row.end());
   }
-  s.mergedMatching = graph::maximumMatching(s.merged);
-  s.matchingCurrent = true;
+  s.matching = graph::maximumMatching(s.merged);
   return true;
+}
+
+} // namespace
+
+std::unique_ptr<Pass> createMatchingPass() {
+  return std::make_unique<MatchingPass>();
 }
 
 } // namespace ldae::passes

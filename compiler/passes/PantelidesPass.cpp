@@ -4,29 +4,50 @@
 // needs no first-order form. Equations are differentiated symbolically
 // (ir::Differentiator::timeDerivative) as the algorithm asks, so the
 // incidence of a derivative is what the symbolic layer finds.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "graph/Pantelides.h"
 #include "ir/Differentiate.h"
+#include "ir/Print.h"
 #include "ir/Query.h"
 #include "ir/Substitute.h"
 
 #include <algorithm>
+#include <ostream>
 
 namespace ldae::passes {
 
-bool runPantelides(AnalysisState &s) {
-  ir::Model &m = s.model;
+namespace {
+
+class PantelidesPass
+    : public TypedPass<PantelidesPass, Reads<MatchingResult>, Updates<>,
+                       Produces<IndexReduction>> {
+public:
+  explicit PantelidesPass(const PantelidesOptions &opts)
+      : TypedPass(PassId::Pantelides), opts_(opts) {}
+
+  bool runOn(PassContext &pc, const MatchingResult &mr, IndexReduction &s);
+  void print(PassContext &pc, ResultStore &results,
+             std::ostream &out) const override;
+
+private:
+  PantelidesOptions opts_;
+};
+
+bool PantelidesPass::runOn(PassContext &pc, const MatchingResult &mr,
+                           IndexReduction &s) {
+  ir::Model &m = pc.model;
   ir::ExprContext &ctx = m.ctx();
-  const int nu = static_cast<int>(s.unknowns.size());
+  const int nu = static_cast<int>(mr.unknowns.size());
 
   // Columns: every unknown at every order 0..its highest in the model.
   std::vector<std::vector<int>> colOf(nu);
   std::vector<std::pair<int, unsigned>> colKey; // (unknown, order)
   std::vector<int> varDiff;
   for (int j = 0; j < nu; ++j)
-    for (int k = 0; k <= s.originalOrder[j]; ++k) {
+    for (int k = 0; k <= mr.originalOrder[j]; ++k) {
       int c = static_cast<int>(colKey.size());
       colKey.emplace_back(j, k);
       varDiff.push_back(-1);
@@ -39,9 +60,9 @@ bool runPantelides(AnalysisState &s) {
   auto incidence = [&](ir::ExprRef e, graph::Pantelides *p) {
     std::vector<int> cols;
     for (ir::VarKey k : variablesOf(e)) {
-      if (k.var >= s.unknownIndex.size() || s.unknownIndex[k.var] < 0)
+      if (k.var >= mr.unknownIndex.size() || mr.unknownIndex[k.var] < 0)
         continue;
-      int j = s.unknownIndex[k.var];
+      int j = mr.unknownIndex[k.var];
       while (static_cast<int>(colOf[j].size()) <= static_cast<int>(k.order)) {
         int c = p->derivativeColumn(colOf[j].back());
         colKey.emplace_back(j, colOf[j].size());
@@ -51,9 +72,9 @@ bool runPantelides(AnalysisState &s) {
     }
     return cols;
   };
-  for (size_t r = 0; r < s.equations.size(); ++r) {
+  for (size_t r = 0; r < mr.equations.size(); ++r) {
     Row row;
-    row.residual = m.equations[s.equations[r]].residual;
+    row.residual = m.equations[mr.equations[r]].residual;
     row.equation = static_cast<int>(r);
     s.rows.push_back(row);
     g.addRow(incidence(row.residual, nullptr));
@@ -85,7 +106,7 @@ bool runPantelides(AnalysisState &s) {
   };
   graph::Pantelides::Result res = p.run(hook);
   if (res.status != graph::Pantelides::Status::Ok) {
-    s.diags.report(DiagId::ErrIndexReductionFailed, s.model.loc,
+    pc.diags.report(DiagId::ErrIndexReductionFailed, m.loc,
                    {res.status == graph::Pantelides::Status::NoProgress
                         ? "the differentiated equations lost unknowns the "
                           "structure needs (cancellation)"
@@ -106,23 +127,49 @@ bool runPantelides(AnalysisState &s) {
   bool anyAlgebraic = false;
   for (int j = 0; j < nu; ++j)
     anyAlgebraic = anyAlgebraic || s.highest[j] == 0;
-  for (size_t r = 0; r < s.equations.size(); ++r) {
+  for (size_t r = 0; r < mr.equations.size(); ++r) {
     int times = 0;
     for (int x = s.rows[r].next; x >= 0; x = s.rows[x].next)
       ++times;
     s.maxTimes = std::max(s.maxTimes, times);
     if (times > 0) {
-      const ir::Equation &eq = m.equations[s.equations[r]];
-      s.result.differentiated.push_back(
-          {s.equationText(s.equations[r]), s.where(eq.loc), times});
+      const ir::Equation &eq = m.equations[mr.equations[r]];
+      pc.report.differentiated.push_back(
+          {pc.equationText(mr.equations[r]), pc.where(eq.loc), times});
     }
   }
   // Pryce's structural index: the most differentiations, plus one when an
   // unknown stays algebraic (it needs one more to become an ODE).
-  s.result.structuralIndex = s.maxTimes + (anyAlgebraic ? 1 : 0);
-  s.result.differentiationIndex = s.result.structuralIndex;
-  s.reduced = true;
+  pc.report.structuralIndex = s.maxTimes + (anyAlgebraic ? 1 : 0);
+  pc.report.differentiationIndex = pc.report.structuralIndex;
+  if (!opts_.reduce) {
+    // Hand on the model as written: its equations only, every unknown
+    // at its order in the model, so nothing becomes a dummy derivative.
+    s.rows.resize(mr.equations.size());
+    for (Row &row : s.rows)
+      row.next = -1;
+    s.highest = mr.originalOrder;
+    s.maxTimes = 0;
+  }
   return true;
+}
+
+void PantelidesPass::print(PassContext &pc, ResultStore &results,
+                           std::ostream &out) const {
+  const MatchingResult &mr = results.get<MatchingResult>();
+  for (const DifferentiatedEquation &d : pc.report.differentiated)
+    out << "// differentiated " << d.times << "x: " << d.equation << "  ("
+        << d.location << ")\n";
+  for (const Row &r : results.get<IndexReduction>().rows)
+    out << "0 = " << ir::printLsd(r.residual, &pc.model) << ";  // "
+        << pc.equationText(mr.equations[r.equation]) << " d/dt^" << r.times
+        << "\n";
+}
+
+} // namespace
+
+std::unique_ptr<Pass> createPantelidesPass(const PantelidesOptions &opts) {
+  return std::make_unique<PantelidesPass>(opts);
 }
 
 } // namespace ldae::passes

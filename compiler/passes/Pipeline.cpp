@@ -1,75 +1,82 @@
-// The pass list, in one place, and the function that runs it: each pass in
-// order, timing it (`--time-passes`) and printing the state after it
-// (`--print-after NAME`), stopping at the first pass that reports errors.
-#include "passes/AnalysisState.h"
-
-#include "ir/Print.h"
+// The pass list (Passes.def), the pipeline of each method, and the runner:
+// each pass in order, timing it (`--time-passes`) and printing what it
+// left (`--print-after NAME`), stopping at the first pass that reports
+// errors.
+#include "passes/Passes.h"
 
 #include <chrono>
+#include <cstdlib>
 #include <iomanip>
-#include <ostream>
+#include <iostream>
 
 namespace ldae::passes {
 
 namespace {
 
-struct PassEntry {
-  PassInfo info;
-  bool (*run)(AnalysisState &);
+const PassInfo kPassTable[] = {
+#define PASS(Id, Name, Summary, Create) {Name, Summary},
+#include "passes/Passes.def"
 };
-
-const std::vector<PassEntry> &passTable() {
-  static const std::vector<PassEntry> table = {
-      {{"alias", "remove a = b, a = -b and a = constant equations"},
-       runAliasElimination},
-      {{"matching", "match equations to unknowns (orders merged)"},
-       runMatching},
-      {{"dm", "Dulmage-Mendelsohn diagnosis of a structurally singular model"},
-       runDmDiagnosis},
-      {{"pantelides", "find the equations to differentiate and how often"},
-       runPantelides},
-      {{"dummy-derivatives", "choose states and dummy derivatives; build the "
-                             "index-1 system"},
-       runDummyDerivatives},
-      {{"blt", "block lower triangular order of the index-1 system"}, runBlt},
-      {{"prune", "keep only what the requested outputs need"}, runPrune},
-      {{"init", "initialization system: degrees of freedom, fixed values"},
-       runInitialization},
-  };
-  return table;
-}
-
-void printState(const AnalysisState &s, const std::string &pass,
-                std::ostream &out) {
-  out << "// ---- after " << pass << " ----\n";
-  if (pass == "alias" || pass == "matching" || pass == "dm") {
-    out << s.model.print();
-    return;
-  }
-  if (pass == "pantelides") {
-    for (const DifferentiatedEquation &d : s.result.differentiated)
-      out << "// differentiated " << d.times << "x: " << d.equation << "  ("
-          << d.location << ")\n";
-    for (const Row &r : s.rows)
-      out << "0 = " << ir::printLsd(r.residual, &s.model) << ";  // "
-          << s.equationText(s.equations[r.equation]) << " d/dt^" << r.times
-          << "\n";
-    return;
-  }
-  if (s.haveSystem)
-    out << printReduced(s.system);
-}
 
 } // namespace
 
+const PassInfo &passInfo(PassId id) {
+  return kPassTable[static_cast<size_t>(id)];
+}
+
 const std::vector<PassInfo> &passList() {
-  static const std::vector<PassInfo> list = [] {
-    std::vector<PassInfo> l;
-    for (const PassEntry &e : passTable())
-      l.push_back(e.info);
-    return l;
-  }();
+  static const std::vector<PassInfo> list(std::begin(kPassTable),
+                                          std::end(kPassTable));
   return list;
+}
+
+void ResultStore::missing(const std::type_info &type) {
+  std::cerr << "ldaec: internal error: a pass reads a result (" << type.name()
+            << ") that no earlier pass of the pipeline produced\n";
+  std::abort();
+}
+
+void Pass::print(PassContext &ctx, ResultStore &results,
+                 std::ostream &out) const {
+  if (results.has<ir::DaeSystem>())
+    out << printReduced(results.get<ir::DaeSystem>());
+  else
+    out << ctx.model.print();
+}
+
+PassPipeline pipelineFor(Method method) {
+  PassPipeline p;
+  p.push_back(createAliasEliminationPass());
+  p.push_back(createMatchingPass());
+  p.push_back(createDmDiagnosisPass());
+  switch (method) {
+  case Method::Raw:
+    // The model as written: Pantelides reports the index but hands on the
+    // equations undifferentiated, so no derivative becomes a dummy; the
+    // BLT may be singular; no pruning (the unreduced matching leaves
+    // unknowns unmatched, so the walk from the outputs would drop what
+    // determines them) and no initialization structure (meaningless above
+    // index one).
+    p.push_back(createPantelidesPass({.reduce = false}));
+    p.push_back(createDummyDerivativesPass());
+    p.push_back(createBuildSystemPass());
+    p.push_back(createBltPass({.allowSingular = true}));
+    return p;
+  case Method::Sga:
+  case Method::Ode:
+    // Their own passes (SGA, the ODE on P_f) arrive with issue 14; until
+    // then they run the dd pipeline, as the driver always did.
+  case Method::DummyDerivatives:
+    p.push_back(createPantelidesPass());
+    p.push_back(createDummyDerivativesPass());
+    p.push_back(createBuildSystemPass());
+    p.push_back(createBltPass());
+    p.push_back(createPrunePass());
+    // p.push_back(createCausalizePass());  (the lead adds it)
+    p.push_back(createInitializationPass());
+    return p;
+  }
+  return p;
 }
 
 bool runPipeline(ir::Model &model, const PipelineOptions &opts,
@@ -80,19 +87,22 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
     result.variables += v.isDiscrete ? 0 : 1;
   result.equations = static_cast<int>(model.equations.size());
 
-  AnalysisState state(model, diags, opts, result);
+  PassContext ctx(model, diags, opts, result);
+  ResultStore results;
   bool ok = true;
-  for (const PassEntry &pass : passTable()) {
+  for (const std::unique_ptr<Pass> &pass : pipelineFor(opts.method)) {
     auto t0 = std::chrono::steady_clock::now();
-    ok = pass.run(state) && !diags.hasErrors();
+    ok = pass->run(ctx, results) && !diags.hasErrors();
     double secs = std::chrono::duration<double>(
                       std::chrono::steady_clock::now() - t0)
                       .count();
-    result.timings.push_back({pass.info.name, secs});
+    result.timings.push_back({pass->name(), secs});
     if (opts.log)
       for (const std::string &name : opts.printAfter)
-        if (name == pass.info.name)
-          printState(state, name, *opts.log);
+        if (name == pass->name()) {
+          *opts.log << "// ---- after " << name << " ----\n";
+          pass->print(ctx, results, *opts.log);
+        }
     if (!ok)
       break;
   }
@@ -108,8 +118,8 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
       out << "  " << std::setw(10) << t.seconds << " s  " << t.name << "\n";
     out << std::defaultfloat;
   }
-  if (ok && state.haveSystem)
-    result.system = std::move(state.system);
+  if (ok && results.has<ir::DaeSystem>())
+    result.system = std::move(results.get<ir::DaeSystem>());
   return ok;
 }
 

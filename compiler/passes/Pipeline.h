@@ -1,11 +1,13 @@
-// The public face of the analysis stage: runs the pass list (alias
-// elimination, matching, Dulmage–Mendelsohn diagnosis, Pantelides, dummy
-// derivatives, BLT, output pruning, initialization) on a flat Model and
-// returns the index-1 DaeSystem plus a report for `--analyze`.
+// The public face of the analysis stage: runs the pipeline of the chosen
+// method (the passes of Passes.def: alias elimination, matching,
+// Dulmage–Mendelsohn diagnosis, Pantelides, dummy derivatives, building the
+// system, BLT, output pruning, initialization) on a flat Model and returns
+// the index-1 DaeSystem plus a report for `--analyze`.
 #pragma once
 
 #include "ir/DaeSystem.h"
 #include "ir/Model.h"
+#include "passes/Method.h"
 #include "support/Diagnostics.h"
 
 #include <nlohmann/json_fwd.hpp>
@@ -18,9 +20,10 @@
 namespace ldae::passes {
 
 struct PipelineOptions {
-  /// "dd" (dummy derivatives, index 1) or "raw" (no index reduction: the
-  /// model as written, made first order). Other methods build on "dd".
-  std::string method = "dd";
+  /// Which pipeline runs (pipelineFor): dummy derivatives (index 1), or
+  /// raw (no index reduction: the model as written, made first order).
+  /// sga and ode run the dd pipeline until their passes arrive (issue 14).
+  Method method = Method::DummyDerivatives;
   /// Requested outputs (flat names, `der(x)` allowed); empty: everything.
   std::vector<std::string> outputs;
   bool timePasses = false;
@@ -107,6 +110,7 @@ struct PassInfo {
   const char *name;
   const char *summary;
 };
+/// Every pass of Passes.def, in its order.
 const std::vector<PassInfo> &passList();
 
 } // namespace ldae::passes

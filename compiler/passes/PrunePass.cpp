@@ -3,21 +3,30 @@
 // every state set), everything that residual reads, and for a state the
 // residual giving its derivative, transitively. The result compiles only
 // what the outputs need.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "ir/Query.h"
 
 namespace ldae::passes {
 
-bool runPrune(AnalysisState &s) {
-  // The unreduced system of --method raw is structurally singular (index
-  // above one): its matching leaves unknowns unmatched, so the walk below
-  // would drop the residuals that determine them. Compile it whole.
-  if (!s.haveSystem || s.opts.outputs.empty() || s.opts.method == "raw" ||
-      s.systemMatchings.size() != s.system.stateSets.size())
+namespace {
+
+class PrunePass
+    : public TypedPass<PrunePass, Reads<>, Updates<ir::DaeSystem, BltResult>,
+                       Produces<>> {
+public:
+  PrunePass() : TypedPass(PassId::Prune) {}
+  bool runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt);
+};
+
+// The walk needs every unknown matched: --method raw, whose unreduced
+// system is singular above index one, does not run this pass.
+bool PrunePass::runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt) {
+  if (ctx.opts.outputs.empty() ||
+      blt.matchings.size() != sys.stateSets.size())
     return true;
-  ir::DaeSystem &sys = s.system;
   const size_t n = sys.unknowns.size();
   std::vector<char> need(n, 0);
   std::vector<int> queue;
@@ -33,11 +42,11 @@ bool runPrune(AnalysisState &s) {
       want(layout0.read(k).unknown);
   std::vector<graph::BipartiteGraph> reads;
   for (size_t set = 0; set < sys.stateSets.size(); ++set)
-    reads.push_back(systemGraph(sys, set, s.systemReads[set], false));
+    reads.push_back(systemGraph(sys, set, blt.reads[set], false));
   for (size_t q = 0; q < queue.size(); ++q) {
     int u = queue[q];
     for (size_t set = 0; set < sys.stateSets.size(); ++set) {
-      int r = s.systemMatchings[set].colMate[u];
+      int r = blt.matchings[set].colMate[u];
       if (r < 0)
         continue;
       for (int c : reads[set].rows[r])
@@ -62,7 +71,7 @@ bool runPrune(AnalysisState &s) {
       if (need[u])
         kept.differential.push_back(st.differential[u]);
     for (size_t r = 0; r < st.residuals.size(); ++r) {
-      int u = s.systemMatchings[set].rowMate[r];
+      int u = blt.matchings[set].rowMate[r];
       if (u < 0 || !need[u])
         continue;
       kept.residuals.push_back(st.residuals[r]);
@@ -87,14 +96,18 @@ bool runPrune(AnalysisState &s) {
   std::erase_if(sys.initialResiduals,
                 [&](ir::ExprRef e) { return !keepsOnly(e); });
   std::erase_if(sys.roots, [&](ir::ExprRef e) { return !keepsOnly(e); });
-  s.result.prunedUnknowns = static_cast<int>(n - unknowns.size());
+  ctx.report.prunedUnknowns = static_cast<int>(n - unknowns.size());
   sys.unknowns = std::move(unknowns);
   sys.residualLocs = std::move(locs);
-  s.result.systemUnknowns = static_cast<int>(sys.unknowns.size());
-  // Matchings refer to the old numbering: recompute for later passes.
-  s.systemGraphs.clear();
-  s.systemMatchings.clear();
-  return runBlt(s);
+  ctx.report.systemUnknowns = static_cast<int>(sys.unknowns.size());
+  // Matchings refer to the old numbering: order again for later passes.
+  return bltOrder(ctx, sys, false, blt);
+}
+
+} // namespace
+
+std::unique_ptr<Pass> createPrunePass() {
+  return std::make_unique<PrunePass>();
 }
 
 } // namespace ldae::passes

@@ -1,5 +1,7 @@
-// Builds the ir::DaeSystem from the augmented equations and the dummy
-// choices, following the layout rule of ir/DaeSystem.h.
+// Pass "build-system": builds the ir::DaeSystem from the augmented
+// equations and the dummy choices, following the layout rule of
+// ir/DaeSystem.h. (For `--method raw` the rows are the model's own
+// equations and no order is a dummy: the system as written.)
 //
 // For an unknown x whose highest order is d, the slots (unknowns) are x
 // itself and each order k in 1..d that is an intermediate order (k < d,
@@ -10,7 +12,8 @@
 // variable (named `der(x)`) so that no Variable node can be read both as a
 // y and as a y' entry. Where such an order is not a dummy, a link residual
 // `der(previous slot) - slot` ties it to its derivative.
-#include "passes/AnalysisState.h"
+#include "passes/Passes.h"
+#include "passes/Results.h"
 #include "passes/SystemStructure.h"
 
 #include "ir/Query.h"
@@ -46,15 +49,27 @@ void collectRoots(ir::ExprContext &ctx, std::span<const ir::ExprRef> roots,
   }
 }
 
-} // namespace
+class BuildSystemPass
+    : public TypedPass<BuildSystemPass,
+                       Reads<AliasResult, MatchingResult, IndexReduction,
+                             DummyChoices>,
+                       Updates<>, Produces<ir::DaeSystem>> {
+public:
+  BuildSystemPass() : TypedPass(PassId::BuildSystem) {}
+  bool runOn(PassContext &pc, const AliasResult &alias,
+             const MatchingResult &mr, const IndexReduction &red,
+             const DummyChoices &dc, ir::DaeSystem &out);
+};
 
-bool buildSystem(AnalysisState &s) {
-  ir::Model &m = s.model;
+bool BuildSystemPass::runOn(PassContext &pc, const AliasResult &alias,
+                            const MatchingResult &mr,
+                            const IndexReduction &red, const DummyChoices &dc,
+                            ir::DaeSystem &out) {
+  ir::Model &m = pc.model;
   ir::ExprContext &ctx = m.ctx();
-  const bool raw = s.opts.method == "raw";
-  const size_t nu = s.unknowns.size();
-  const size_t nsets = s.choices.size();
-  const size_t userVars = s.eliminated.size();
+  const size_t nu = mr.unknowns.size();
+  const size_t nsets = dc.choices.size();
+  const size_t userVars = alias.eliminated.size();
 
   ir::DaeSystem sys;
   sys.ctx = m.sharedCtx();
@@ -66,11 +81,11 @@ bool buildSystem(AnalysisState &s) {
   };
   std::vector<Slots> slots(nu);
   for (size_t j = 0; j < nu; ++j) {
-    const ir::VarId v = s.unknowns[j];
+    const ir::VarId v = mr.unknowns[j];
     const ir::Variable var = m.variables[v]; // copy: addVariable may realloc
-    const unsigned d = raw ? s.originalOrder[j] : s.highest[j];
+    const unsigned d = red.highest[j];
     unsigned always = 0, any = d + 1;
-    for (const DummyChoice &c : s.choices) {
+    for (const DummyChoice &c : dc.choices) {
       always = std::max<unsigned>(always, c[j]);
       any = std::min<unsigned>(any, c[j]);
     }
@@ -105,11 +120,11 @@ bool buildSystem(AnalysisState &s) {
   // Unknowns.
   std::vector<std::pair<size_t, size_t>> slotOf; // unknown index -> (j, slot)
   for (size_t j = 0; j < nu; ++j) {
-    const ir::Variable &var = m.variables[s.unknowns[j]];
+    const ir::Variable &var = m.variables[mr.unknowns[j]];
     for (size_t k = 0; k < slots[j].orders.size(); ++k) {
       ir::SystemUnknown u;
       u.key = slots[j].keys[k];
-      u.name = m.variableName(ir::VarKey{s.unknowns[j], slots[j].orders[k]});
+      u.name = m.variableName(ir::VarKey{mr.unknowns[j], slots[j].orders[k]});
       u.start = slots[j].orders[k] == 0 ? var.start : 0.0;
       u.startBinding = slots[j].orders[k] == 0 ? var.startBinding : nullptr;
       u.nominal = var.nominal;
@@ -123,20 +138,18 @@ bool buildSystem(AnalysisState &s) {
 
   // Residuals shared by every set: the equations and their derivatives.
   std::vector<ir::ExprRef> common;
-  for (size_t i = 0; i < s.equations.size(); ++i) {
-    const ir::Equation &eq = m.equations[s.equations[i]];
-    for (int r = static_cast<int>(i); r >= 0; r = s.rows[r].next) {
-      common.push_back(subst.apply(s.rows[r].residual));
+  for (size_t i = 0; i < mr.equations.size(); ++i) {
+    const ir::Equation &eq = m.equations[mr.equations[i]];
+    for (int r = static_cast<int>(i); r >= 0; r = red.rows[r].next) {
+      common.push_back(subst.apply(red.rows[r].residual));
       sys.residualLocs.push_back(eq.loc);
-      if (raw)
-        break;
     }
-    if (!raw && s.rows[i].next >= 0)
-      sys.constraints.push_back(subst.apply(s.rows[i].residual));
+    if (red.rows[i].next >= 0)
+      sys.constraints.push_back(subst.apply(red.rows[i].residual));
   }
 
   for (size_t set = 0; set < nsets; ++set) {
-    const DummyChoice &choice = s.choices[set];
+    const DummyChoice &choice = dc.choices[set];
     ir::StateSet st;
     st.residuals = common;
     st.differential.assign(n, false);
@@ -144,7 +157,7 @@ bool buildSystem(AnalysisState &s) {
       auto [j, k] = slotOf[u];
       const Slots &sl = slots[j];
       unsigned order = sl.orders[k];
-      unsigned d = raw ? s.originalOrder[j] : s.highest[j];
+      unsigned d = red.highest[j];
       st.differential[u] =
           order + 1 <= d && static_cast<int>(order + 1) < choice[j];
       if (sl.fresh[k] && static_cast<int>(order) < choice[j]) {
@@ -156,7 +169,7 @@ bool buildSystem(AnalysisState &s) {
       }
     }
     if (st.residuals.size() != n) {
-      s.diags.report(DiagId::ErrIndexReductionFailed, m.loc,
+      pc.diags.report(DiagId::ErrIndexReductionFailed, m.loc,
                      {"the reduced system has " +
                       std::to_string(st.residuals.size()) + " equations for " +
                       std::to_string(n) + " unknowns"});
@@ -166,8 +179,8 @@ bool buildSystem(AnalysisState &s) {
       if (st.differential[u])
         st.states.push_back(sys.unknowns[u].name);
     }
-    st.pivotSize = s.pivotSizes[set];
-    for (ir::ExprRef e : s.pivots[set])
+    st.pivotSize = dc.pivotSizes[set];
+    for (ir::ExprRef e : dc.pivots[set])
       st.pivot.push_back(subst.apply(e));
     StateSetReport rep;
     rep.states = st.states;
@@ -180,7 +193,7 @@ bool buildSystem(AnalysisState &s) {
     rep.pivotSize = st.pivotSize;
     for (ir::ExprRef e : st.pivot)
       rep.pivot.push_back(ir::printLsd(e, &m));
-    s.result.stateSets.push_back(rep);
+    pc.report.stateSets.push_back(rep);
     sys.stateSets.push_back(std::move(st));
   }
 
@@ -204,16 +217,16 @@ bool buildSystem(AnalysisState &s) {
   // model differentiates x.
   std::vector<ir::SystemOutput> outputs;
   std::vector<ir::ExprRef> aliasValue(userVars, nullptr);
-  for (const Alias &a : s.aliases)
+  for (const Alias &a : alias.aliases)
     aliasValue[a.var] = a.value;
   for (ir::VarId v = 0; v < userVars; ++v) {
     const ir::Variable &var = m.variables[v];
     if (aliasValue[v]) {
       outputs.push_back({var.name, subst.apply(aliasValue[v])});
-    } else if (s.unknownIndex[v] >= 0) {
+    } else if (mr.unknownIndex[v] >= 0) {
       outputs.push_back({var.name, ctx.var(v)});
-      int j = s.unknownIndex[v];
-      if (s.originalOrder[j] >= 1)
+      int j = mr.unknownIndex[v];
+      if (mr.originalOrder[j] >= 1)
         outputs.push_back(
             {m.variableName(ir::VarKey{v, 1}), subst.apply(ctx.var(v, 1))});
     }
@@ -222,20 +235,20 @@ bool buildSystem(AnalysisState &s) {
             [](const ir::SystemOutput &a, const ir::SystemOutput &b) {
               return a.name < b.name;
             });
-  if (s.opts.outputs.empty()) {
+  if (pc.opts.outputs.empty()) {
     sys.outputs = std::move(outputs);
   } else {
-    for (const std::string &name : s.opts.outputs) {
+    for (const std::string &name : pc.opts.outputs) {
       auto it = std::find_if(
           outputs.begin(), outputs.end(),
           [&](const ir::SystemOutput &o) { return o.name == name; });
       if (it == outputs.end()) {
-        s.diags.report(DiagId::ErrUnknownOutput, SourceLoc{}, {name});
+        pc.diags.report(DiagId::ErrUnknownOutput, SourceLoc{}, {name});
         continue;
       }
       sys.outputs.push_back(*it);
     }
-    if (s.diags.hasErrors())
+    if (pc.diags.hasErrors())
       return false;
   }
 
@@ -243,13 +256,18 @@ bool buildSystem(AnalysisState &s) {
   for (const ir::Parameter &p : m.parameters)
     sys.parameterNames.push_back(p.name);
 
-  s.result.states = sys.stateSets[0].states;
-  s.result.dummies = s.result.stateSets[0].dummies;
-  s.result.dof = static_cast<int>(s.result.states.size());
-  s.result.systemUnknowns = static_cast<int>(n);
-  s.system = std::move(sys);
-  s.haveSystem = true;
+  pc.report.states = sys.stateSets[0].states;
+  pc.report.dummies = pc.report.stateSets[0].dummies;
+  pc.report.dof = static_cast<int>(pc.report.states.size());
+  pc.report.systemUnknowns = static_cast<int>(n);
+  out = std::move(sys);
   return true;
+}
+
+} // namespace
+
+std::unique_ptr<Pass> createBuildSystemPass() {
+  return std::make_unique<BuildSystemPass>();
 }
 
 } // namespace ldae::passes

@@ -222,7 +222,7 @@ TEST(IndexReduction, RawMethodKeepsTheModelAsWritten) {
   Builder b("Pendulum", "pend.lsd");
   pendulumFirstOrder(b);
   passes::PipelineOptions opts;
-  opts.method = "raw";
+  opts.method = passes::Method::Raw;
   Outcome run = analyze(b, opts);
   ASSERT_TRUE(run.result.system) << run.messages;
   const ir::DaeSystem &sys = *run.result.system;

@@ -1,6 +1,6 @@
 // Helpers shared by the passes: locations and texts for messages, and the
 // start point at which value-dependent choices are made.
-#include "passes/AnalysisState.h"
+#include "passes/PassContext.h"
 
 #include "ir/Print.h"
 
@@ -10,10 +10,10 @@
 
 namespace ldae::passes {
 
-const std::vector<int> &AnalysisState::nameRanks() {
+const std::vector<int> &PassContext::nameRanks() {
   const std::vector<ir::Variable> &vars = model.variables;
-  if (nameRank.size() == vars.size())
-    return nameRank; // variables are only ever appended, never renamed
+  if (nameRank_.size() == vars.size())
+    return nameRank_; // variables are only ever appended, never renamed
   // The first eight bytes of each name as a big-endian number (zero
   // padded) order like the names themselves, and decide most comparisons
   // without reading the strings.
@@ -31,29 +31,29 @@ const std::vector<int> &AnalysisState::nameRanks() {
       return prefix[a] < prefix[b];
     return vars[a].name < vars[b].name;
   });
-  nameRank.assign(vars.size(), 0);
+  nameRank_.assign(vars.size(), 0);
   for (size_t i = 1; i < byName.size(); ++i)
-    nameRank[byName[i]] = vars[byName[i]].name == vars[byName[i - 1]].name
-                              ? nameRank[byName[i - 1]]
-                              : static_cast<int>(i);
-  return nameRank;
+    nameRank_[byName[i]] = vars[byName[i]].name == vars[byName[i - 1]].name
+                               ? nameRank_[byName[i - 1]]
+                               : static_cast<int>(i);
+  return nameRank_;
 }
 
-std::string AnalysisState::where(SourceLoc loc) const {
+std::string PassContext::where(SourceLoc loc) const {
   if (!loc.valid())
     return "";
   // Diagnostics print the path as given; equations point into the same file.
   return diags.sources().path(loc.file) + ":" + std::to_string(loc.line);
 }
 
-std::string AnalysisState::equationText(int e) const {
+std::string PassContext::equationText(int e) const {
   const ir::Equation &eq = model.equations[e];
   if (!eq.text.empty())
     return eq.text;
   return ir::printLsd(eq.residual, &model) + " = 0";
 }
 
-ir::EvalEnv AnalysisState::startEnv() const {
+ir::EvalEnv PassContext::startEnv() const {
   ir::EvalEnv env;
   const ir::Model *m = &model;
   env.variable = [m](ir::VarKey k) {

@@ -1,0 +1,68 @@
+// What every pass gets besides the typed results it reads (Results.h): the
+// model (which alias elimination and build-system rewrite in place), the
+// diagnostics, the options and the `--analyze` report each pass adds to.
+// Also the helpers several passes share for their messages. Internal to
+// compiler/passes.
+#pragma once
+
+#include "graph/BipartiteGraph.h"
+#include "ir/Evaluate.h"
+#include "ir/Model.h"
+#include "passes/Pipeline.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ldae::passes {
+
+class PassContext {
+public:
+  PassContext(ir::Model &model, DiagnosticEngine &diags,
+              const PipelineOptions &opts, AnalysisResult &report)
+      : model(model), diags(diags), opts(opts), report(report) {}
+
+  ir::Model &model;
+  DiagnosticEngine &diags;
+  const PipelineOptions &opts;
+  AnalysisResult &report;
+
+  /// Rank of each variable's name (by VarId): equal names rank equal, and
+  /// ranks order like the names. Sorting by rank instead of by name
+  /// compares each pair of strings once, not once per sort.
+  const std::vector<int> &nameRanks();
+
+  /// "file:line" of a location, or "" when it has none.
+  std::string where(SourceLoc loc) const;
+  /// The user's text of model equation `e` (index into model.equations).
+  std::string equationText(int e) const;
+  /// Values of leaves at the start point: start values of variables,
+  /// zero for derivatives, parameter values.
+  ir::EvalEnv startEnv() const;
+
+private:
+  std::vector<int> nameRank_; // a cache: variables are only appended
+};
+
+/// How to name the rows and columns of a graph in a singularity message.
+struct SingularityNames {
+  std::function<SourceLoc(int)> rowLoc;
+  std::function<std::string(int)> rowText;
+  std::function<std::string(int)> colName;
+  std::function<SourceLoc(int)> colLoc;
+};
+
+/// If `m` is not a complete matching of `g` (rows and allowed columns),
+/// reports the Dulmage–Mendelsohn diagnosis of the `system` ("model" or
+/// "initialization") and returns true; fills the report's
+/// over/underDetermined lists when `record` is set. (DmDiagnosis.cpp; the
+/// "blt" and "init" passes diagnose their systems with it too.)
+bool diagnoseSingular(PassContext &ctx, const char *system,
+                      const graph::BipartiteGraph &g, const graph::Matching &m,
+                      const SingularityNames &names,
+                      const std::vector<char> &colAllowed, bool record);
+
+/// Lists `items` as `'a', 'b' and 'c'` (quoted).
+std::string quotedList(const std::vector<std::string> &items);
+
+} // namespace ldae::passes
