@@ -105,7 +105,9 @@ def measure(ldaec):
                 vals, secs, err = run_ldaec(ldaec, problem, tol)
                 row["ldaec_seconds"] = secs
                 if vals is None:
-                    row["ldaec_error"] = err[-1] if err else "failed"
+                    errors = [l for l in err if "error:" in l] or err
+                    row["ldaec_error"] = (errors[0].split("error: ", 1)[-1]
+                                          if errors else "failed")
                     row["ldaec_stderr"] = err
                 else:
                     row["ldaec_scd"] = scd(vals, ref, ncomp)
