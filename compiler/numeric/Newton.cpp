@@ -1,5 +1,6 @@
 // Newton / Gauss–Newton iteration (see Newton.h).
 #include "numeric/Newton.h"
+#include "numeric/Rank.h"
 
 #include <algorithm>
 #include <cmath>
@@ -46,10 +47,7 @@ NewtonResult gaussNewton(const ResidualFn &f, const JacobianFn &jacobian,
       res.status = NewtonStatus::EvaluationFailed;
       return res;
     }
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(J);
-    if (opts.rankThreshold > 0)
-      cod.setThreshold(opts.rankThreshold);
-    Eigen::VectorXd dx = cod.solve(-r);
+    Eigen::VectorXd dx = minimumNormSolution(J, -r, opts.rankThreshold);
     if (!dx.allFinite()) {
       res.status = NewtonStatus::EvaluationFailed;
       return res;

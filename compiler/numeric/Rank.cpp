@@ -35,4 +35,26 @@ double conditionNumber(const Eigen::MatrixXd &a) {
   return s.min > 0 ? s.max / s.min : inf;
 }
 
+bool nearSingularLeftVector(const Eigen::MatrixXd &a, double relTol,
+                            Eigen::VectorXd &u) {
+  if (a.size() == 0)
+    return false;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeFullU);
+  const Eigen::VectorXd &sv = svd.singularValues();
+  Eigen::Index last = sv.size() - 1;
+  if (sv(last) > relTol * sv(0))
+    return false;
+  u = svd.matrixU().col(last);
+  return true;
+}
+
+Eigen::VectorXd minimumNormSolution(const Eigen::MatrixXd &a,
+                                    const Eigen::VectorXd &b,
+                                    double threshold) {
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(a);
+  if (threshold > 0)
+    cod.setThreshold(threshold);
+  return cod.solve(b);
+}
+
 } // namespace ldae::numeric

@@ -34,4 +34,17 @@ SingularRange singularRange(const Eigen::MatrixXd &a);
 /// sigma_max / sigma_min of `a` (infinity when singular or not finite).
 double conditionNumber(const Eigen::MatrixXd &a);
 
+/// For a square `a`: when sigma_min(a) <= relTol * sigma_max(a), true, with
+/// `u` the left singular vector of sigma_min (the combination of rows that (nearly)
+/// vanishes: which equations a singular matrix singles out).
+bool nearSingularLeftVector(const Eigen::MatrixXd &a, double relTol,
+                            Eigen::VectorXd &u);
+
+/// The minimum-norm least-squares solution of a x = b by a complete
+/// orthogonal decomposition; `threshold` as in numericRank (relative to
+/// the largest pivot; 0: Eigen's default).
+Eigen::VectorXd minimumNormSolution(const Eigen::MatrixXd &a,
+                                    const Eigen::VectorXd &b,
+                                    double threshold = 0);
+
 } // namespace ldae::numeric

@@ -378,9 +378,7 @@ public:
         if (scaled(i) > tol)
           res.badRows.push_back(i);
       }
-    Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod(A);
-    cod.setThreshold(1e-12);
-    VectorXd x = cod.solve(b);
+    VectorXd x = numeric::minimumNormSolution(A, b, 1e-12);
     VectorXd lin = (A * x - b).cwiseAbs().cwiseQuotient(rowScale);
     if (lin.maxCoeff() > 1e-8 * std::max(1.0, scaled.maxCoeff())) {
       res.solvable = false;

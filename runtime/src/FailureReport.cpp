@@ -1,6 +1,7 @@
 // Failure messages for IDA's error returns (see FailureReport.h).
 #include "FailureReport.h"
 #include "ConsistentInit.h"
+#include "numeric/Rank.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,11 +128,10 @@ std::vector<int> singularRows(const ModelEval &ev, const IdaIntegrator &ida,
   double cj = ida.currentCj();
   if (ev.jacobian(ida.set(), t, ida.y(), ida.yp(), cj, J) != 0 || J.size() == 0)
     return {};
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeFullU);
-  Eigen::VectorXd sv = svd.singularValues();
-  if (sv(sv.size() - 1) > 1e-10 * sv(0))
+  Eigen::VectorXd u;
+  if (!numeric::nearSingularLeftVector(J, 1e-10, u))
     return {};
-  return dominantRows(svd.matrixU().col(sv.size() - 1));
+  return dominantRows(u);
 }
 
 /// Splits "file:line[:col]" (the file may contain ':').

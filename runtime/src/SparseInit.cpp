@@ -4,6 +4,7 @@
 
 #include "graph/Matching.h"
 #include "graph/Scc.h"
+#include "numeric/Rank.h"
 
 #include <algorithm>
 #include <cmath>
@@ -445,7 +446,7 @@ private:
       int j = L_.var(blockCols_[i]);
       d[i] = (y_[j] - y0_[j]) / D_[j] + dz[blockCols_[i]];
     }
-    Eigen::VectorXd c = N.completeOrthogonalDecomposition().solve(-d);
+    Eigen::VectorXd c = numeric::minimumNormSolution(N, -d);
     if (!c.allFinite())
       return false;
     // dz += A^{-1} (sum of c_k e_k): one more solve, no n x p storage.

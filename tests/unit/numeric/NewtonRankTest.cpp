@@ -160,3 +160,33 @@ TEST(SparseLu, NamesTheSingularColumn) {
   EXPECT_FALSE(lu.factor(a));
   EXPECT_EQ(lu.singularColumn(), 1);
 }
+
+TEST(Rank, NearSingularLeftVectorNamesTheDependentRows) {
+  // Rows 0 and 2 are equal: u ~ (1, 0, -1) / sqrt(2).
+  MatrixXd a(3, 3);
+  a << 1, 2, 3, 0, 1, 4, 1, 2, 3;
+  VectorXd u;
+  ASSERT_TRUE(nearSingularLeftVector(a, 1e-10, u));
+  EXPECT_NEAR(std::fabs(u[0]), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(u[1], 0, 1e-12);
+  EXPECT_NEAR(u[0] + u[2], 0, 1e-12);
+  EXPECT_FALSE(nearSingularLeftVector(MatrixXd::Identity(3, 3), 1e-10, u));
+}
+
+TEST(Rank, MinimumNormSolution) {
+  // x + y = 2 (one row): (1, 1); a rank-deficient square system the same.
+  MatrixXd a(1, 2);
+  a << 1, 1;
+  VectorXd b(1);
+  b << 2;
+  VectorXd x = minimumNormSolution(a, b);
+  EXPECT_NEAR(x[0], 1, 1e-14);
+  EXPECT_NEAR(x[1], 1, 1e-14);
+  MatrixXd s(2, 2);
+  s << 1, 1, 2, 2;
+  VectorXd c(2);
+  c << 2, 4;
+  x = minimumNormSolution(s, c, 1e-12);
+  EXPECT_NEAR(x[0], 1, 1e-12);
+  EXPECT_NEAR(x[1], 1, 1e-12);
+}
