@@ -77,24 +77,32 @@ private:
   std::vector<int> xCol_, xVar_, fixedVar_;
 };
 
-/// A CSC matrix filled column by column from (row, value) lists.
-struct ColumnLists {
-  std::vector<std::vector<std::pair<int, double>>> cols;
-  explicit ColumnLists(int n) : cols(n) {}
-  void add(int row, int col, double v) { cols[col].push_back({row, v}); }
-  CscMatrix toCsc() const {
-    CscMatrix a;
-    a.n = int(cols.size());
-    a.colptr.assign(1, 0);
-    for (const auto &c : cols) {
-      for (auto [r, v] : c) {
-        a.rowind.push_back(r);
-        a.values.push_back(v);
-      }
-      a.colptr.push_back(int(a.rowind.size()));
-    }
-    return a;
+/// Builds a CSC matrix from entries given twice in the same order: once
+/// to count them per column, once to place them (no per-column lists: a
+/// model of 10^5 unknowns would allocate 2·10^5 small vectors per
+/// iteration).
+class CscBuilder {
+public:
+  explicit CscBuilder(int n) { a_.n = n, a_.colptr.assign(n + 1, 0); }
+  void count(int col) { ++a_.colptr[col + 1]; }
+  /// Call after counting, before the first place().
+  void allocate() {
+    for (int c = 0; c < a_.n; ++c)
+      a_.colptr[c + 1] += a_.colptr[c];
+    a_.rowind.resize(a_.colptr[a_.n]);
+    a_.values.resize(a_.colptr[a_.n]);
+    next_.assign(a_.colptr.begin(), a_.colptr.end() - 1);
   }
+  void place(int row, int col, double v) {
+    int q = next_[col]++;
+    a_.rowind[q] = row;
+    a_.values[q] = v;
+  }
+  CscMatrix take() { return std::move(a_); }
+
+private:
+  CscMatrix a_;
+  std::vector<int> next_;
 };
 
 class SparseInit {
@@ -378,27 +386,33 @@ private:
   /// rowScale_ for the convergence test.
   void assemble() {
     int cols = L_.numCols();
-    ColumnLists lists(cols);
-    forEachEntry([&](int r, int c, double v, bool edge) {
-      if (edge)
-        lists.add(r, c, v);
-    });
+    CscBuilder builder(cols);
+    // The F and G entries, then one 1 per fixed and per keep row.
+    auto entries = [&](auto add) {
+      forEachEntry([&](int r, int c, double v, bool edge) {
+        if (edge)
+          add(r, c, v);
+      });
+      int row = L_.firstFixed();
+      for (int j : L_.fixedVars())
+        add(row++, L_.fixedCol(j), 1.0);
+      for (int c : keepCol_)
+        add(row++, c, 1.0);
+    };
+    entries([&](int, int c, double) { builder.count(c); });
+    builder.allocate();
+    entries([&](int r, int c, double v) { builder.place(r, c, v); });
+    A_ = builder.take();
     b_.assign(cols, 0.0);
     for (int i = 0; i < ev_.n(); ++i)
       b_[i] = -r_[i];
     for (int i = 0; i < m_.n_init; ++i)
       b_[L_.firstInitial() + i] = -g_[i];
     int row = L_.firstFixed();
-    for (int j : L_.fixedVars()) {
-      lists.add(row, L_.fixedCol(j), 1.0);
+    for (int j : L_.fixedVars())
       b_[row++] = -(y_[j] - y0_[j]) / D_[j];
-    }
-    for (int c : keepCol_) {
-      int j = L_.var(c);
-      lists.add(row, c, 1.0);
-      b_[row++] = -(y_[j] - y0_[j]) / D_[j];
-    }
-    A_ = lists.toCsc();
+    for (int c : keepCol_)
+      b_[row++] = -(y_[L_.var(c)] - y0_[L_.var(c)]) / D_[L_.var(c)];
     rowScale_.assign(cols, 0.0);
     for (int q = 0; q < A_.nnz(); ++q)
       rowScale_[A_.rowind[q]] =
