@@ -8,12 +8,18 @@
    here by the discrete sine transform (the eigenvectors of the 5-point
    Laplacian with zero boundary values), to 1e-6; the log names the sparse
    path.
+3. heat2d_tied.lsd (36 interior unknowns, initial equations in y and y'):
+   u[2,2] + u[3,3] = 1 from starts 0 gives 0.5 each (the minimum-norm move
+   of the tied block), der(u[4,4]) = 0 makes u[4,4] the mean of its
+   neighbours, every other value the initial profile.
 
-Usage: heat2d_check.py LDAEC MODEL. Standard library only.
+Usage: heat2d_check.py LDAEC MODEL (heat2d.lsd; heat2d_tied.lsd is read from
+its folder). Standard library only.
 """
 import csv
 import io
 import math
+import os
 import subprocess
 import sys
 
@@ -91,6 +97,28 @@ def main():
         check(abs(rows[-1]["time"] - 0.01) < 1e-12 and err <= 1e-6,
               "N = 40, t = 0.01: max error vs the exact semi-discrete "
               "solution %.2e" % err)
+    tied = os.path.join(os.path.dirname(model), "heat2d_tied.lsd")
+    rows, log = simulate(ldaec, tied, 8, ["--stop", "0"])
+    if rows:
+        r = rows[0]
+        check("(1 in minimum-norm blocks)" in log,
+              "tied: one minimum-norm block")
+        check(abs(value(r, 2, 2) - 0.5) < 1e-12 and
+              abs(value(r, 3, 3) - 0.5) < 1e-12,
+              "tied: u[2,2] = %.15g, u[3,3] = %.15g (0.5 each)" %
+              (value(r, 2, 2), value(r, 3, 3)))
+        mean = (value(r, 3, 4) + value(r, 5, 4) + value(r, 4, 3) +
+                value(r, 4, 5)) / 4
+        check(abs(value(r, 4, 4) - mean) < 1e-12,
+              "tied: u[4,4] = %.15g, the mean of its neighbours %.15g" %
+              (value(r, 4, 4), mean))
+        dx = 1.0 / 7
+        worst = max(abs(value(r, i, j) - 16 * (i - 1) * dx * (1 - (i - 1) * dx)
+                        * (j - 1) * dx * (1 - (j - 1) * dx))
+                    for i in range(2, 8) for j in range(2, 8)
+                    if (i, j) not in ((2, 2), (3, 3), (4, 4)))
+        check(worst < 1e-12, "tied: the other values on the profile "
+              "(largest difference %.1e)" % worst)
     sys.exit(1 if failures else 0)
 
 
