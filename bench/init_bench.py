@@ -9,7 +9,9 @@ point; compilation not included) on
   - bench/init_oscillators.lsd, an index-1 chain with initial equations, at
     about 10^3, 10^4 and 10^5 unknowns: time per unknown roughly constant
     (the ratio to the smallest size's, measured in the same run, is
-    printed; linear means about 1).
+    printed; linear means about 1);
+  - bench/init_tied.lsd, the same chain with the masses tied in pairs by
+    initial equations: N/2 minimum-norm blocks (the sparse KKT step).
 Each figure is the best of REPS runs. With --write the table goes into
 docs/benchmarks.md under "## Initialization".
 
@@ -62,21 +64,23 @@ def main():
     lines.append("| heat2d (idaHeat2D form), N = 101 | %d | %.4f | %.2f | %s |"
                  % (nh, th, 1e6 * th / nh,
                     "yes" if th < 1 else "**no**"))
-    base = None
     rows = []
-    for n in (334, 3334, 33334):
-        u, t, how = best(ldaec, chain, n, a.reps)
-        per = t / u
-        base = base or per
-        rows.append("| oscillator chain, N = %d | %d | %.4f | %.2f | %.2f |"
-                    % (n, u, t, 1e6 * per, per / base))
+    tied = os.path.join(ROOT, "bench", "init_tied.lsd")
+    for name, model in (("oscillator chain", chain), ("tied pairs", tied)):
+        base = None
+        for n in (334, 3334, 33334):
+            u, t, how = best(ldaec, model, n, a.reps)
+            per = t / u
+            base = base or per
+            rows.append("| %s, N = %d | %d | %.4f | %.2f | %.2f |"
+                        % (name, n, u, t, 1e6 * per, per / base))
     section = "\n".join([
         "## Initialization",
         "",
         "`bench/init_bench.py` (ldaec `--simulate --stop 0 --stats`, the "
         "`initialization time` line: finding the consistent initial point, "
         "compilation not included; best of %d runs; shared 2-core machine). "
-        "Both models have initial equations, so before the sparse path "
+        "All these models have initial equations, so before the sparse path "
         "(docs/runtime.md) they took the dense one: O(n^3), 39 s for a "
         "900-unknown heat equation, refused above 10^4 unknowns." % a.reps,
         "",
@@ -85,8 +89,10 @@ def main():
         lines[0],
         "",
         "Index-1 chain with initial equations (`bench/init_oscillators.lsd`: "
-        "x[i] = sin(0.01 i), der(x[i]) = 0; the last column is the time per "
-        "unknown relative to the smallest size, 1 = linear):",
+        "x[i] = sin(0.01 i), der(x[i]) = 0), and the same chain with the "
+        "masses tied in pairs (`bench/init_tied.lsd`: x[2i-1] + x[2i] = c_i, "
+        "N/2 minimum-norm blocks); the last column is the time per unknown "
+        "relative to the smallest size of the same model, 1 = linear:",
         "",
         "| model | unknowns | init time (s) | µs per unknown | per unknown vs smallest |",
         "|---|---|---|---|---|",

@@ -4,7 +4,6 @@
 
 #include "graph/Matching.h"
 #include "graph/Scc.h"
-#include "numeric/Rank.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,9 +17,6 @@ constexpr double kTol = 1e-10; // as the dense and index-1 Newton iterations
 constexpr int kMaxIterations = 50;
 /// How many rows and unknowns a failure message lists.
 constexpr int kListed = 6;
-/// Most free parameters (kept differential values in minimum-norm blocks)
-/// of the projected step: it costs one KLU solve each per iteration.
-constexpr int kMaxProjected = 200;
 
 enum class RowKind { Residual, Initial, Fixed, Keep };
 
@@ -149,7 +145,7 @@ public:
         return out;
       }
       std::vector<double> dz = b_;
-      if (!lu.solve(dz.data()) || !project(lu, dz)) {
+      if (!lu.solve(dz.data()) || !project(dz)) {
         out.failure = "the initialization's linear solve failed";
         out.residual = best;
         return out;
@@ -370,12 +366,6 @@ private:
     for (size_t k = 0; k < keepCol_.size(); ++k)
       if (seen[keepCol_[k]])
         freeKeep_.push_back(int(k));
-    if (freeKeep_.size() > size_t(kMaxProjected)) {
-      // Too many free parameters for the dense least-squares step: keep the
-      // canonical choice (the matching's) instead.
-      freeKeep_.clear();
-      return;
-    }
     blockCols_ = movedReached;
     for (int k : freeKeep_)
       blockCols_.push_back(keepCol_[k]);
@@ -436,42 +426,58 @@ private:
     return worst;
   }
 
-  /// For the minimum-norm blocks: dz = dz0 + N c with N_k = A^{-1} e_k over
-  /// the free keep rows k, c minimizing the nominal-scaled distance of the
-  /// block's differential values from their start values.
-  bool project(SparseLu &lu, std::vector<double> &dz) {
+  /// For the minimum-norm blocks: the step dz that meets every row but the
+  /// free keep rows (A' dz = b') and minimizes the nominal-scaled distance
+  /// of the block's differential values from their start values,
+  /// 1/2 |d + dz_B|^2, from the sparse KKT system
+  ///   [H  A'^T] [dz]   [-H d]
+  ///   [A'  0  ] [l ] = [ b' ]      (H = 1 on the block's columns, else 0),
+  /// factored by KLU: linear in the model's size however many blocks.
+  bool project(std::vector<double> &dz) {
     if (freeKeep_.empty())
       return true;
-    int cols = L_.numCols(), p = int(freeKeep_.size()),
-        nb = int(blockCols_.size());
-    Eigen::MatrixXd N(nb, p);
-    std::vector<double> e(cols);
-    for (int k = 0; k < p; ++k) {
-      std::fill(e.begin(), e.end(), 0.0);
-      e[L_.firstKeep() + freeKeep_[k]] = 1;
-      if (!lu.solve(e.data()))
-        return false;
-      for (int i = 0; i < nb; ++i)
-        N(i, k) = e[blockCols_[i]];
+    int cols = L_.numCols();
+    std::vector<int> lambda(cols, 0); // row of A -> multiplier index or -1
+    for (int k : freeKeep_)
+      lambda[L_.firstKeep() + k] = -1;
+    int m = 0;
+    for (int &l : lambda)
+      l = l < 0 ? -1 : m++;
+    std::vector<char> inBlock(cols, 0);
+    for (int c : blockCols_)
+      inBlock[c] = 1;
+    CscBuilder builder(cols + m);
+    auto entries = [&](auto add) {
+      for (int c = 0; c < cols; ++c) {
+        if (inBlock[c])
+          add(c, c, 1.0);
+        for (int q = A_.colptr[c]; q < A_.colptr[c + 1]; ++q)
+          if (int l = lambda[A_.rowind[q]]; l >= 0)
+            add(cols + l, c, A_.values[q]);
+      }
+      for (int c = 0; c < cols; ++c)
+        for (int q = A_.colptr[c]; q < A_.colptr[c + 1]; ++q)
+          if (int l = lambda[A_.rowind[q]]; l >= 0)
+            add(c, cols + l, A_.values[q]);
+    };
+    entries([&](int, int c, double) { builder.count(c); });
+    builder.allocate();
+    entries([&](int r, int c, double v) { builder.place(r, c, v); });
+    CscMatrix kkt = builder.take();
+    std::vector<double> rhs(cols + m, 0.0);
+    for (int c : blockCols_) {
+      int j = L_.var(c);
+      rhs[c] = -(y_[j] - y0_[j]) / D_[j];
     }
-    // Distance from the start in scaled units after the step dz0.
-    Eigen::VectorXd d(nb);
-    for (int i = 0; i < nb; ++i) {
-      int j = L_.var(blockCols_[i]);
-      d[i] = (y_[j] - y0_[j]) / D_[j] + dz[blockCols_[i]];
-    }
-    Eigen::VectorXd c = numeric::minimumNormSolution(N, -d);
-    if (!c.allFinite())
+    for (int r = 0; r < cols; ++r)
+      if (lambda[r] >= 0)
+        rhs[cols + lambda[r]] = b_[r];
+    SparseLu lu;
+    if (!lu.factor(kkt) || !lu.solve(rhs.data()))
       return false;
-    // dz += A^{-1} (sum of c_k e_k): one more solve, no n x p storage.
-    std::fill(e.begin(), e.end(), 0.0);
-    for (int k = 0; k < p; ++k)
-      e[L_.firstKeep() + freeKeep_[k]] = c[k];
-    if (!lu.solve(e.data()))
-      return false;
-    for (int i = 0; i < cols; ++i)
-      dz[i] += e[i];
-    return true;
+    std::copy(rhs.begin(), rhs.begin() + cols, dz.begin());
+    return std::all_of(dz.begin(), dz.end(),
+                       [](double v) { return std::isfinite(v); });
   }
 
   std::string describeRow(int row) const {

@@ -16,10 +16,9 @@
 // Where the choice of which differential values move is not unique (an
 // initial equation ties several of them: an alternating path joins a moved
 // x column to a kept one), the rule of LANGUAGE.md asks for the smallest
-// move: those keep rows become free parameters and the step minimizes the
+// move: those keep rows are dropped and the step minimizes the
 // nominal-scaled distance of that block's differential values from their
-// start values (a small dense least-squares problem, one KLU solve per
-// parameter).
+// start values subject to the other rows (a sparse KKT system, KLU).
 #pragma once
 
 #include "ConsistentInit.h"
