@@ -414,6 +414,9 @@ std::string printC(const CodePlan &plan, bool withMain) {
   if (!plan.residualOrigin.empty())
     printArray(os, "char *const", s + "_residual_origin", plan.residualOrigin,
                str);
+  if (!plan.outputOrigin.empty())
+    printArray(os, "char *const", s + "_output_origin", plan.outputOrigin,
+               str);
   auto fnRef = [&](int i) {
     return i < 0 ? std::string("0") : functionSymbol(plan, plan.functions[i]);
   };
@@ -456,7 +459,9 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << "  " << number(plan.startTime) << ", " << number(plan.stopTime) << ", "
      << number(plan.tolerance) << ", " << number(plan.interval) << ",\n"
      << "  " << plan.initRowind.size() << ", " << s << "_init_colptr, " << s
-     << "_init_rowind, " << fnRef(plan.initJacobianCsc) << "\n};\n\n"
+     << "_init_rowind, " << fnRef(plan.initJacobianCsc) << ",\n"
+     << "  " << (plan.outputOrigin.empty() ? "0" : s + "_output_origin")
+     << "\n};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
   if (withMain) {

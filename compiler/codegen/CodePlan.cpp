@@ -672,15 +672,20 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
       plan.paramNames[i] = sys.model && i < sys.model->parameters.size()
                                ? sys.model->parameters[i].name
                                : "p" + std::to_string(i);
+  auto origin = [&](const SourceLoc &loc, const char *none) {
+    return loc.valid() ? opts.sources->path(loc.file) + ":" +
+                             std::to_string(loc.line) + ":" +
+                             std::to_string(loc.col)
+                       : std::string(none);
+  };
   if (opts.sources && !sys.residualLocs.empty()) {
     for (const SourceLoc &loc : sys.residualLocs)
-      plan.residualOrigin.push_back(
-          loc.valid() ? opts.sources->path(loc.file) + ":" +
-                            std::to_string(loc.line) + ":" +
-                            std::to_string(loc.col)
-                      : std::string("<generated>"));
+      plan.residualOrigin.push_back(origin(loc, "<generated>"));
     plan.residualOrigin.resize(n, "<generated>");
   }
+  if (opts.sources)
+    for (const ir::SystemOutput &o : sys.outputs)
+      plan.outputOrigin.push_back(origin(o.loc, ""));
   for (const ir::SystemOutput &o : sys.outputs)
     plan.outputNames.push_back(o.name);
 

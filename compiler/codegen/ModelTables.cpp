@@ -58,6 +58,8 @@ ModelTables::ModelTables(const CodePlan &plan) {
   m.n_drift = plan.nDrift;
   m.residual_origin =
       plan.residualOrigin.empty() ? nullptr : names(plan.residualOrigin);
+  m.output_origin =
+      plan.outputOrigin.empty() ? nullptr : names(plan.outputOrigin);
   m.start_time = plan.startTime;
   m.stop_time = plan.stopTime;
   m.tolerance = plan.tolerance;

@@ -46,6 +46,11 @@ void defineOptions(CLI::App &app, Options &o) {
          "integration method: dd|sga|ode|raw (default dd)")
       ->check(CLI::IsMember(std::vector<std::string>(
           passes::kMethodSpellings.begin(), passes::kMethodSpellings.end())));
+  app.add_option("--causalize", o.causalize,
+                 "on: the integrator gets the states and the tearing "
+                 "variables only, the rest is computed in BLT order; off: "
+                 "every unknown of the index-1 system goes to the integrator")
+      ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--outputs", o.outputs,
                  "comma-separated variables to output (compiles only what "
                  "they need)");

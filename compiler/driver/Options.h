@@ -25,6 +25,7 @@ struct Options {
   std::string outputFile;                 // -o
   std::optional<double> startTime, stopTime, rtol, atol, interval;
   passes::Method method = passes::Method::DummyDerivatives; // --method
+  std::string causalize = "on";           // --causalize on|off
   std::string outputs;                    // --outputs x,y
   std::string plotFile;                   // --plot out.svg|png
   bool stats = false;                     // --stats

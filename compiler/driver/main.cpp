@@ -111,6 +111,10 @@ static int run(int argc, char **argv) {
   // 3. Structural analysis, index reduction, initialization (passes).
   passes::PipelineOptions passOpts;
   passOpts.method = opts.method;
+  // `--emit reduced` shows the index-1 system index reduction built; the
+  // causal form has no lsd text of its own (its assignments are folded
+  // into the residuals).
+  passOpts.causalize = opts.causalize == "on" && opts.emit != "reduced";
   passOpts.outputs = driver::splitOutputs(opts.outputs);
   passOpts.timePasses = opts.timePasses;
   passOpts.printAfter = opts.printAfter;

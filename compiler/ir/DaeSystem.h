@@ -54,6 +54,7 @@ struct StateSet {
 struct SystemOutput {
   std::string name;
   ExprRef value = nullptr; // over y, y' as the layout rule says
+  SourceLoc loc; // the equation computing it (causalization), if any
 };
 
 struct DaeSystem {

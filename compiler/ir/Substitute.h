@@ -15,6 +15,10 @@ public:
   explicit Substitution(ExprContext &ctx) : ctx_(ctx) {}
   /// Every occurrence of `from` is replaced by `to`.
   void set(ExprRef from, ExprRef to);
+  /// As set(), keeping the memo: for callers that know no expression
+  /// rewritten so far contains `from` (values defined in solve order, each
+  /// reading only earlier ones), so a long chain costs linear time.
+  void extend(ExprRef from, ExprRef to) { map_[from] = to; }
   ExprRef apply(ExprRef e);
 
 private:

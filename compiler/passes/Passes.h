@@ -33,7 +33,7 @@ std::unique_ptr<Pass> createDummyDerivativesPass();
 std::unique_ptr<Pass> createBuildSystemPass();
 std::unique_ptr<Pass> createBltPass(const BltOptions &opts = {});
 std::unique_ptr<Pass> createPrunePass();
-// std::unique_ptr<Pass> createCausalizePass();  (the lead adds it)
+std::unique_ptr<Pass> createCausalizePass();
 std::unique_ptr<Pass> createInitializationPass();
 
 struct BltResult;

@@ -72,7 +72,7 @@ PassPipeline pipelineFor(Method method) {
     p.push_back(createBuildSystemPass());
     p.push_back(createBltPass());
     p.push_back(createPrunePass());
-    // p.push_back(createCausalizePass());  (the lead adds it)
+    p.push_back(createCausalizePass());
     p.push_back(createInitializationPass());
     return p;
   }

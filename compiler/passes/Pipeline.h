@@ -6,6 +6,7 @@
 #pragma once
 
 #include "ir/DaeSystem.h"
+#include "passes/Causalize.h"
 #include "ir/Model.h"
 #include "passes/Method.h"
 #include "support/Diagnostics.h"
@@ -26,6 +27,8 @@ struct PipelineOptions {
   Method method = Method::DummyDerivatives;
   /// Requested outputs (flat names, `der(x)` allowed); empty: everything.
   std::vector<std::string> outputs;
+  /// Causalize and tear the index-1 system (`--causalize on|off`).
+  bool causalize = true;
   bool timePasses = false;
   /// Pass names after which the current state is printed to `log`.
   std::vector<std::string> printAfter;
@@ -89,6 +92,7 @@ struct AnalysisResult {
   int systemUnknowns = 0;     // size of the DaeSystem
   int prunedUnknowns = 0;     // removed by output-driven pruning
   std::vector<StateSetReport> stateSets;
+  CausalResult causal;
   InitReport init;
   std::vector<PassTiming> timings;
   std::optional<ir::DaeSystem> system;

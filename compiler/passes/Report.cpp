@@ -15,6 +15,70 @@ std::string joined(const std::vector<std::string> &items) {
   return out.empty() ? "(none)" : out;
 }
 
+/// The causal form: what the integrator owns, and the blocks that are not
+/// plain assignments (a large model has thousands of those).
+void printCausal(const CausalResult &c, std::ostream &out) {
+  if (!c.applied) {
+    if (!c.integratorUnknowns.empty())
+      out << "  integrator unknowns:  " << c.integratorUnknowns.size()
+          << " (not causalized)\n";
+    return;
+  }
+  int count[5] = {0, 0, 0, 0, 0};
+  for (const CausalBlock &b : c.blocks)
+    ++count[static_cast<int>(b.kind)];
+  using K = CausalBlock::Kind;
+  out << "  causal blocks:        " << c.blocks.size() << " ("
+      << count[int(K::Explicit)] << " explicit, " << count[int(K::Derivative)]
+      << " derivative, " << count[int(K::Nonlinear)] << " nonlinear, "
+      << count[int(K::Kept)] << " kept, " << count[int(K::Loop)]
+      << " torn loops)\n";
+  out << "  computed explicitly:  " << c.explicitCount << " unknowns\n";
+  for (const CausalBlock &b : c.blocks) {
+    if (b.kind == CausalBlock::Kind::Explicit ||
+        b.kind == CausalBlock::Kind::Derivative)
+      continue;
+    out << "    " << causalBlockKindName(b.kind) << " of "
+        << b.variables.size() << ": iteration variables "
+        << joined(b.iteration) << "; " << b.residuals << " residual"
+        << (b.residuals == 1 ? "" : "s");
+    if (!b.reason.empty())
+      out << " (" << b.reason << ")";
+    std::vector<std::string> where;
+    for (const std::string &e : b.equations)
+      if (!e.empty() && (where.empty() || where.back() != e))
+        where.push_back(e);
+    if (!where.empty())
+      out << "  (" << joined(where) << ")";
+    out << "\n";
+  }
+  out << "  integrator unknowns:  " << c.integratorUnknowns.size() << " ("
+      << c.integratorUnknowns.size() - c.iterationVariables << " states, "
+      << c.iterationVariables << " iteration variables): "
+      << joined(c.integratorUnknowns) << "\n";
+  out << "  form:                 "
+      << (c.ode ? "ODE x' = f(t, x)" : "DAE F(t, x, x', z) = 0") << "\n";
+}
+
+nlohmann::json causalJson(const CausalResult &c) {
+  nlohmann::json blocks = nlohmann::json::array();
+  for (const CausalBlock &b : c.blocks)
+    blocks.push_back({{"kind", causalBlockKindName(b.kind)},
+                      {"size", b.variables.size()},
+                      {"variables", b.variables},
+                      {"equations", b.equations},
+                      {"iteration", b.iteration},
+                      {"residuals", b.residuals},
+                      {"reason", b.reason}});
+  return {{"applied", c.applied},
+          {"form", c.ode ? "ode" : "dae"},
+          {"unknowns_before", c.unknownsBefore},
+          {"explicit", c.explicitCount},
+          {"torn_loops", c.tornLoops},
+          {"iteration_variables", c.iterationVariables},
+          {"blocks", blocks}};
+}
+
 template <typename T> nlohmann::json optionalJson(const std::optional<T> &v) {
   return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
@@ -55,6 +119,7 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
         << largest << ")\n";
   }
   out << "  system unknowns:      " << r.systemUnknowns << "\n";
+  printCausal(r.causal, out);
   if (r.prunedUnknowns > 0)
     out << "  pruned unknowns:      " << r.prunedUnknowns << "\n";
   if (r.stateSets.size() > 1) {
@@ -96,6 +161,8 @@ nlohmann::json analysisToJson(const AnalysisResult &r) {
   j["undetermined"] = r.underDetermined;
   j["system_unknowns"] = r.systemUnknowns;
   j["pruned_unknowns"] = r.prunedUnknowns;
+  j["integrator_unknowns"] = r.causal.integratorUnknowns;
+  j["causal"] = causalJson(r.causal);
   nlohmann::json sets = nlohmann::json::array();
   for (const StateSetReport &s : r.stateSets)
     sets.push_back({{"states", s.states},

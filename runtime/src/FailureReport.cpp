@@ -209,22 +209,50 @@ std::string worstVariables(const ModelEval &ev, const IdaIntegrator &ida) {
 
 } // namespace
 
-std::string describeDomainRow(const ModelEval &ev, int set, int row,
-                              const double *y) {
-  std::string origin = ev.origin(row), file;
+/// The source line at `origin` ("file:line:col") with a caret under the
+/// column, each on a line of its own; "" when the file cannot be read.
+std::string sourceWithCaret(const std::string &origin) {
+  std::string file;
   int line = 0, col = 0;
   splitOrigin(origin, file, line, col);
-  std::string msg = "\n  in " + ev.describeRow(row);
   std::string text = line > 0 ? sourceLine(file, line) : "";
-  if (!text.empty()) {
-    // Tabs keep their width under the caret.
-    std::string pad;
-    for (int i = 0; i + 1 < col && i < int(text.size()); ++i)
-      pad += text[i] == '\t' ? '\t' : ' ';
-    msg += "\n    " + text + "\n    " + pad + "^";
-  }
+  if (text.empty())
+    return "";
+  // Tabs keep their width under the caret.
+  std::string pad;
+  for (int i = 0; i + 1 < col && i < int(text.size()); ++i)
+    pad += text[i] == '\t' ? '\t' : ' ';
+  return "\n    " + text + "\n    " + pad + "^";
+}
+
+/// Where a domain error in a residual really happened when the residual
+/// reads a variable causalization computes: the outputs function, at the
+/// same point, fails first at that variable (its stores run in solve
+/// order, so the variable holding the failing operation comes before the
+/// ones computed from it). "" when no computed variable fails.
+std::string computedCause(const ModelEval &ev, double t, const double *y,
+                          const double *yp) {
+  const ldae_model &m = ev.model();
+  if (m.n_outputs <= 0 || !m.outputs || !m.output_origin)
+    return "";
+  std::vector<double> out(m.n_outputs), zeros(ev.n(), 0.0);
+  int rc = m.outputs(t, y, yp ? yp : zeros.data(), ev.params(), out.data());
+  if (rc <= 0 || rc > m.n_outputs || !m.output_origin[rc - 1] ||
+      !*m.output_origin[rc - 1])
+    return "";
+  std::string origin = m.output_origin[rc - 1];
+  return fmt::format("\n  while computing '{}' in the equation at {}",
+                     m.output_names[rc - 1], origin) +
+         sourceWithCaret(origin);
+}
+
+std::string describeDomainRow(const ModelEval &ev, int set, int row,
+                              const double *y, double t, const double *yp) {
+  std::string msg = "\n  in " + ev.describeRow(row) +
+                    sourceWithCaret(ev.origin(row));
   if (!y)
     return msg;
+  msg += computedCause(ev, t, y, yp);
   std::vector<int> cols = unknownsRead(ev, set, row);
   std::string values;
   for (size_t i = 0; i < cols.size() && i < kMaxValuesListed; ++i)
@@ -243,8 +271,40 @@ std::string describeInitDomainError(const ModelEval &ev, int set, int row,
                      "outside its domain (e.g. sqrt or log of a negative "
                      "number) at the start values",
                      t) +
-         describeDomainRow(ev, set, row, y) +
+         describeDomainRow(ev, set, row, y, t, nullptr) +
          "\n  hint: check the start values and parameters";
+}
+
+std::string describeOutputDomainError(const ModelEval &ev, int output,
+                                     double t, double lastGood,
+                                     const double *y) {
+  const ldae_model &m = ev.model();
+  std::string name = m.output_names && m.output_names[output]
+                         ? m.output_names[output]
+                         : fmt::format("output {}", output + 1);
+  std::string msg = fmt::format(
+      "simulation failed at t = {:.10g}: computing '{}' left its domain "
+      "(e.g. sqrt or log of a negative number)",
+      t, name);
+  if (lastGood < t)
+    msg += fmt::format("; at t = {:.10g} it was inside", lastGood);
+  std::string origin = m.output_origin && m.output_origin[output]
+                           ? m.output_origin[output]
+                           : "";
+  if (!origin.empty())
+    msg += "\n  in the equation at " + origin + sourceWithCaret(origin);
+  // The integrator's unknowns it is computed from (all of them when few).
+  if (ev.n() <= static_cast<int>(kMaxValuesListed)) {
+    std::string values;
+    for (int i = 0; i < ev.n(); ++i)
+      values += fmt::format("{}'{}' = {:.10g}", i ? ", " : "", ev.varName(i),
+                            y[i]);
+    if (!values.empty())
+      msg += "\n  values: " + values;
+  }
+  return msg + "\n  hint: '" + name +
+         "' is computed at output times only; check the start values and "
+         "parameters, the solution may really leave the domain here";
 }
 
 std::string describeSolverError(double t, const std::string &what) {
@@ -266,11 +326,11 @@ std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
        flag == IDA_CONV_FAIL || flag == kStepCollapsed) &&
       ida.lastDomainRow() >= 0)
     msg += describeDomainRow(ev, ida.set(), ida.lastDomainRow(),
-                             ida.lastDomainY());
+                             ida.lastDomainY(), t, nullptr);
   else if (flag == IDA_LSETUP_FAIL || flag == IDA_CONV_FAIL ||
            flag == IDA_LSOLVE_FAIL)
     for (int r : singularRows(ev, ida, t))
-      msg += describeDomainRow(ev, ida.set(), r, ida.y());
+      msg += describeDomainRow(ev, ida.set(), r, ida.y(), t, ida.yp());
   msg += fmt::format("\n  hint: {}", info.hint);
   return msg;
 }

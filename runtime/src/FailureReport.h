@@ -19,13 +19,23 @@ inline constexpr int kStepCollapsed = -1000;
 /// residual row `row` of state set `set` at the unknowns `y` (may be null):
 /// the equation's location (file:line:col), its source line with a caret,
 /// and the values of the unknowns it reads, each on a line of its own
-/// starting with "\n  ". The one form for initialization and the run.
+/// starting with "\n  ". Where the failing operation is in a variable that
+/// causalization computes inside the residual, that variable's equation is
+/// named too (evaluated at `t`, `y`, `yp`; `yp` may be null: zeros). The
+/// one form for initialization and the run.
 std::string describeDomainRow(const ModelEval &ev, int set, int row,
-                              const double *y);
+                              const double *y, double t, const double *yp);
 
 /// The whole message of a domain error met while initializing at `t`.
 std::string describeInitDomainError(const ModelEval &ev, int set, int row,
                                     const double *y, double t);
+
+/// The report of a domain error met computing output `output` at `t` (the
+/// integration itself went on): the output, its equation's location and
+/// source line, and `lastGood`, the last output time it was computed at.
+std::string describeOutputDomainError(const ModelEval &ev, int output,
+                                      double t, double lastGood,
+                                      const double *y);
 
 /// Describes a SUNDIALS set-up call that failed at time `t` with
 /// `what` (e.g. IDAReInit after a state switch): a numerical failure of

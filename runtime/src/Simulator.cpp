@@ -89,12 +89,22 @@ public:
       : ev_(ev), m_(ev.model()), cols_(std::move(cols)), res_(res),
         out_(std::max(m_.n_outputs, 0)), drift_(std::max(m_.n_drift, 0)) {}
 
-  void record(double t, const double *y, const double *yp) {
+  /// Appends the row at `t`; false (and the failure) when an output left
+  /// its domain there: the rows so far are kept, the run stops.
+  bool record(double t, const double *y, const double *yp) {
     std::vector<double> row{t};
     const double *src = y;
     if (m_.n_outputs > 0) {
-      if (m_.outputs(t, y, yp, ev_.params(), out_.data()) != 0)
-        std::fill(out_.begin(), out_.end(), NAN);
+      int rc = m_.outputs(t, y, yp, ev_.params(), out_.data());
+      if (rc != 0) {
+        double lastGood = res_.rows.empty() ? t : res_.rows.back()[0];
+        res_.failure =
+            rc > 0 ? describeOutputDomainError(ev_, rc - 1, t, lastGood, y)
+                   : fmt::format("simulation failed at t = {:.10g}: the "
+                                 "outputs could not be computed",
+                                 t);
+        return false;
+      }
       src = out_.data();
     }
     for (int c : cols_)
@@ -104,6 +114,7 @@ public:
         m_.drift(t, y, yp, ev_.params(), drift_.data()) == 0)
       for (double d : drift_)
         res_.stats.maxDrift = std::max(res_.stats.maxDrift, std::fabs(d));
+    return true;
   }
 
 private:
@@ -354,9 +365,10 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     // reads element 0), so evaluate the outputs at the output times.
     // Without solver steps, --every-step reports the same grid.
     const double none = 0; // y and y' of length 0, never read
-    rec.record(s.start, &none, &none);
-    for (long k = 1; span > 0 && k <= nOut; ++k)
-      rec.record(gridTime(k), &none, &none);
+    if (rec.record(s.start, &none, &none))
+      for (long k = 1; span > 0 && k <= nOut; ++k)
+        if (!rec.record(gridTime(k), &none, &none))
+          break;
     return finish(nullptr);
   }
 
@@ -387,8 +399,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
           .count();
   if (!initialized)
     return finish(&ida);
-  rec.record(s.start, ida.y(), ida.yp());
-  if (span <= 0)
+  if (!rec.record(s.start, ida.y(), ida.yp()) || span <= 0)
     return finish(&ida);
 
   // Grid mode steps onto every output time with IDA's stop time, so the
@@ -418,9 +429,11 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     }
     bool atStop = flag == IDA_TSTOP_RETURN;
     if (o.everyStep) {
-      rec.record(t, ida.y(), ida.yp());
+      if (!rec.record(t, ida.y(), ida.yp()))
+        break;
     } else if (atStop) {
-      rec.record(t, ida.y(), ida.yp());
+      if (!rec.record(t, ida.y(), ida.yp()))
+        break;
       if (++k <= nOut) {
         atStop = false;
         auto next = ida.setStopTime(gridTime(k));

@@ -132,6 +132,10 @@ def robertson_sundials(ldaec):
     _, rows, err = run(ldaec, [
         os.path.join(HERE, "robertson_sundials.lsd"), "--simulate",
         "--rtol", "1e-4", "--atol", "1e-6", "--algebraic-error-test",
+        # The example hands IDA all three unknowns; causalized, y3 =
+        # 1 - y1 - y2 leaves the error test and the path differs by more
+        # than the example's own check allows (51 x at rtol 1e-4).
+        "--causalize", "off",
         "--output-times", times, "--stats"])
     rows = rows[1:]  # the start row
     same_times(rows, ref)

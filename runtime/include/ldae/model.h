@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 2
+#define LDAE_ABI_VERSION 3
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -136,6 +136,11 @@ typedef struct ldae_model {
   const int *init_jac_colptr;          /* n + 1 */
   const int *init_jac_rowind;          /* init_jac_nnz, rows < n_init */
   ldae_init_jacobian_fn init_jacobian_csc;
+
+  /* Source location of the equation that computes each output (n_outputs,
+     "file:line:col", "" where none: a state, an alias), for the failure
+     message of an output that leaves its domain. May be NULL. */
+  const char *const *output_origin;
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians

@@ -165,7 +165,7 @@ TEST(Prune, KeepsOnlyWhatTheOutputsNeed) {
   b.eq(b.der(x2), v2, "der(x2) = v2");
   b.eq(b.der(v2), c.neg(x2), "der(v2) = -x2");
   b.eq(e2, c.mul(v2, v2), "e2 = v2 * v2");
-  passes::PipelineOptions opts;
+  passes::PipelineOptions opts = indexOneOptions();
   opts.outputs = {"x1"};
   Outcome run = analyze(b, opts);
   ASSERT_TRUE(run.ok) << run.messages;
@@ -182,7 +182,7 @@ TEST(Prune, KeepsOnlyWhatTheOutputsNeed) {
   Builder b2("Two", "two.lsd");
   b2.var("x");
   b2.eq(b2.der(b2.var("x")), b2.ctx().constant(1), "der(x) = 1");
-  passes::PipelineOptions bad;
+  passes::PipelineOptions bad = indexOneOptions();
   bad.outputs = {"nope"};
   Outcome r2 = analyze(b2, bad);
   EXPECT_FALSE(r2.ok);

@@ -221,7 +221,7 @@ TEST(IndexReduction, OdeAndIndexOne) {
 TEST(IndexReduction, RawMethodKeepsTheModelAsWritten) {
   Builder b("Pendulum", "pend.lsd");
   pendulumFirstOrder(b);
-  passes::PipelineOptions opts;
+  passes::PipelineOptions opts = indexOneOptions();
   opts.method = passes::Method::Raw;
   Outcome run = analyze(b, opts);
   ASSERT_TRUE(run.result.system) << run.messages;

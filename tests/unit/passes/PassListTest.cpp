@@ -105,7 +105,7 @@ TEST(PassList, MethodPipelines) {
   std::vector<std::string> dd = namesOf(passes::pipelineFor(Method::DummyDerivatives));
   EXPECT_EQ(dd, (std::vector<std::string>{
                     "alias", "matching", "dm", "pantelides",
-                    "dummy-derivatives", "build-system", "blt", "prune",
+                    "dummy-derivatives", "build-system", "blt", "prune", "causalize",
                     "init"}));
   // sga and ode run the dd pipeline until their passes arrive (issue 14).
   EXPECT_EQ(namesOf(passes::pipelineFor(Method::Sga)), dd);

@@ -106,7 +106,17 @@ struct Outcome {
   std::string messages;
 };
 
-inline Outcome analyze(Builder &b, passes::PipelineOptions opts = {}) {
+/// Options that stop at the index-1 system as index reduction builds it:
+/// these tests check index reduction, not the causal form (see
+/// tests/lang/analysis/causalize.lsd for that).
+inline passes::PipelineOptions indexOneOptions() {
+  passes::PipelineOptions opts;
+  opts.causalize = false;
+  return opts;
+}
+
+inline Outcome analyze(Builder &b,
+                       passes::PipelineOptions opts = indexOneOptions()) {
   Outcome run;
   DiagnosticEngine diags(b.sources());
   run.ok = passes::runPipeline(b.model, opts, diags, run.result);
