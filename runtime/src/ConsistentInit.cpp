@@ -14,6 +14,7 @@
 // so the start vector moves only along T, by the smallest step in the
 // nominal-scaled norm within T.
 #include "ConsistentInit.h"
+#include "SparseInit.h"
 #include "numeric/Rank.h"
 #include "numeric/WongSequence.h"
 
@@ -160,88 +161,9 @@ bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
 InitOutcome initializeIndexOne(const ModelEval &ev, int set, double t,
                                const std::vector<double> &y0,
                                const std::vector<double> &yp0) {
-  const ldae_model &m = ev.model();
-  const int *diff = ev.set(set).is_differential;
-  int n = ev.n();
-  InitOutcome out;
-  out.index = 1;
-  for (int j = 0; j < n; ++j)
-    out.jumpDim += diff[j] ? 0 : 1;
-  std::vector<double> y = y0, yp = yp0, r(n), dx(n);
-  CscMatrix Fy, E, M;
-  SparseLu lu;
-  const double tol = 1e-10; // as the dense Newton's
-  double best = INFINITY;
-  std::vector<int> badRows;
-  for (int iter = 0; iter < 50; ++iter) {
-    int rc = ev.residual(set, t, y.data(), yp.data(), r.data());
-    if (rc == 0)
-      rc = ev.jacobianPartsCsc(set, t, y.data(), yp.data(), Fy, E);
-    if (rc) {
-      out.failure = domainFailure(rc > 0 ? ev.describeRow(rc - 1)
-                                         : std::string("the residual"));
-      if (rc > 0) {
-        out.domainRow = rc - 1;
-        out.domainY = y;
-      }
-      return out;
-    }
-    if (!indexOneMatrix(ev, set, Fy, E, M)) {
-      out.failure = "the model lost its index-1 structure during the "
-                    "initialization's Newton iteration";
-      return out;
-    }
-    std::vector<double> rs = rowScales(M);
-    double res = 0;
-    badRows.clear();
-    for (int i = 0; i < n; ++i) {
-      double v = std::fabs(r[i]) / rs[i];
-      res = std::max(res, v);
-      if (v > tol)
-        badRows.push_back(i);
-    }
-    best = std::min(best, res);
-    if (!lu.factor(M)) {
-      int col = lu.singularColumn();
-      out.failure = fmt::format(
-          "the index-1 iteration matrix is singular{}",
-          col >= 0 ? fmt::format(" (at unknown '{}')", ev.varName(col)) : "");
-      break;
-    }
-    for (int i = 0; i < n; ++i)
-      dx[i] = -r[i];
-    if (!lu.solve(dx.data())) {
-      out.failure = "the index-1 linear solve failed";
-      break;
-    }
-    // M's columns are y' for differential and y for algebraic unknowns:
-    // the differential values stay (T holds only algebraic directions).
-    double step = 0;
-    for (int j = 0; j < n; ++j) {
-      double d = m.nominal ? m.nominal[j] : 1.0;
-      if (diff[j]) {
-        yp[j] += d * dx[j];
-      } else {
-        y[j] += d * dx[j];
-        step = std::max(step, std::fabs(dx[j]));
-      }
-    }
-    if (badRows.empty() && step <= tol) {
-      out.ok = true;
-      out.residual = res;
-      out.y = std::move(y);
-      out.yp = std::move(yp);
-      return out;
-    }
-  }
-  out.residual = best;
-  if (out.failure.empty()) {
-    std::string rows;
-    for (size_t i = 0; i < badRows.size() && i < 5; ++i)
-      rows += (i ? ", " : "") + ev.describeRow(badRows[i]);
-    out.failure = noConsistentPoint(rows, best);
-  }
-  return out;
+  // With no conditions every differential value gets a keep row, and the
+  // sparse initialization's system is M (dy_a, dy'_d) = -F exactly.
+  return initializeSparse(ev, set, t, y0, yp0);
 }
 
 namespace {

@@ -201,7 +201,9 @@ private:
       }
       return false;
     }
-    rc = ev_.initResidual(t_, y_.data(), yp_.data(), g_.data());
+    // Hand-written models without initial equations may leave the init
+    // functions NULL.
+    rc = ni > 0 ? ev_.initResidual(t_, y_.data(), yp_.data(), g_.data()) : 0;
     if (rc == 0)
       rc = ev_.initJacobianCsc(t_, y_.data(), yp_.data(), gy_, gyp_);
     if (rc) {
@@ -237,8 +239,10 @@ private:
       };
       for (int q = Fy_.colptr[j]; q < Fy_.colptr[j + 1]; ++q)
         entry(Fy_.rowind[q], Fy_.values[q], E_.values[q]);
-      for (int q = m_.init_jac_colptr[j]; q < m_.init_jac_colptr[j + 1]; ++q)
-        entry(L_.firstInitial() + m_.init_jac_rowind[q], gy_[q], gyp_[q]);
+      if (m_.n_init > 0)
+        for (int q = m_.init_jac_colptr[j]; q < m_.init_jac_colptr[j + 1];
+             ++q)
+          entry(L_.firstInitial() + m_.init_jac_rowind[q], gy_[q], gyp_[q]);
     }
   }
 
