@@ -1,5 +1,7 @@
 #include "Options.h"
 
+#include "passes/Pipeline.h"
+
 #include <CLI/CLI.hpp>
 
 namespace ldae::driver {
@@ -65,7 +67,9 @@ void defineOptions(CLI::App &app, Options &o) {
                "with --simulate: stop once the model is compiled and ready "
                "to integrate (for timing the compiler)");
   app.add_option("--print-after", o.printAfter,
-                 "print the model after the named pass (repeatable)");
+                 "print what the named pass left (repeatable); the passes "
+                 "in order: " +
+                     passes::passNames());
 }
 
 } // namespace ldae::driver

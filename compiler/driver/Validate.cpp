@@ -220,16 +220,14 @@ bool checkModes(const CLI::App &app, const Options &o,
 }
 
 bool checkPasses(const Options &o, DiagnosticEngine &diags) {
-  std::string all;
   std::set<std::string> names;
-  for (const passes::PassInfo &p : passes::passList()) {
-    all += std::string(all.empty() ? "" : ", ") + p.name;
+  for (const passes::PassInfo &p : passes::passList())
     names.insert(p.name);
-  }
   bool ok = true;
   for (const std::string &name : o.printAfter)
     if (!names.count(name)) {
-      diags.report(DiagId::ErrUnknownPass, SourceLoc{}, {name, all});
+      diags.report(DiagId::ErrUnknownPass, SourceLoc{},
+                   {name, passes::passNames()});
       ok = false;
     }
   return ok;

@@ -30,6 +30,13 @@ const std::vector<PassInfo> &passList() {
   return list;
 }
 
+std::string passNames() {
+  std::string all;
+  for (const PassInfo &p : kPassTable)
+    all += std::string(all.empty() ? "" : ", ") + p.name;
+  return all;
+}
+
 void ResultStore::missing(const std::type_info &type) {
   std::cerr << "ldaec: internal error: a pass reads a result (" << type.name()
             << ") that no earlier pass of the pipeline produced\n";

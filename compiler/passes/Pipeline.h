@@ -116,5 +116,7 @@ struct PassInfo {
 };
 /// Every pass of Passes.def, in its order.
 const std::vector<PassInfo> &passList();
+/// Their names as "alias, matching, ..." (for messages and --help).
+std::string passNames();
 
 } // namespace ldae::passes
