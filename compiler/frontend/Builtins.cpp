@@ -111,6 +111,15 @@ Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
   return std::vector<Value>{std::move(*v)};
 }
 
+ir::ParamId Flattener::homotopyLambda() {
+  if (auto p = model_->findParameter("homotopy.lambda"))
+    return *p;
+  ir::Parameter p;
+  p.name = "homotopy.lambda";
+  p.value = 1;
+  return model_->addParameter(std::move(p));
+}
+
 std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
                                           const Scope &scope, Env *env) {
   std::string name = builtinNameOf(call);
@@ -265,12 +274,43 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     return args[1];
   }
   if (name == "homotopy") {
-    // The actual model; the simplified one only helps initialization.
-    for (const ast::Arg &a : call.args)
-      if (a.name.empty() || a.name == "actual")
-        return lower(*a.value, scope, env);
-    report(DiagId::ErrCallArgCount, where, {name, "2", "0"});
-    return std::nullopt;
+    // homotopy(actual, simplified): `actual` in the run; with
+    // homotopy.lambda < 1 (set only by the runtime's continuation when the
+    // initialization fails from the start values) the blend
+    // lambda*actual + (1 - lambda)*simplified. At lambda = 1 only `actual`
+    // is evaluated.
+    const ast::Expr *actual = nullptr, *simplified = nullptr;
+    for (size_t i = 0; i < call.args.size(); ++i) {
+      const ast::Arg &a = call.args[i];
+      if (a.name == "actual" || (a.name.empty() && i == 0))
+        actual = a.value.get();
+      else if (a.name == "simplified" || (a.name.empty() && i == 1))
+        simplified = a.value.get();
+    }
+    if (!actual || call.args.size() > 2) {
+      report(DiagId::ErrCallArgCount, where,
+             {name, "2", std::to_string(call.args.size())});
+      return std::nullopt;
+    }
+    auto a = lower(*actual, scope, env);
+    if (!a || !simplified)
+      return a;
+    auto s = lower(*simplified, scope, env);
+    if (!s)
+      return std::nullopt;
+    if (a->shape != s->shape || a->isString || s->isString) {
+      report(DiagId::ErrShapeMismatch, where,
+             {name, describeShape(a->shape), describeShape(s->shape)});
+      return std::nullopt;
+    }
+    ir::ExprRef lambda = c.param(homotopyLambda());
+    ir::ExprRef atOne = c.compare(ir::CompareKind::Eq, lambda, c.one());
+    for (size_t i = 0; i < a->elems.size(); ++i)
+      a->elems[i] = c.ifThenElse(
+          atOne, a->elems[i],
+          c.add(c.mul(lambda, a->elems[i]),
+                c.mul(c.sub(c.one(), lambda), s->elems[i])));
+    return a;
   }
   if (const MathFn *f = mathFn(name)) {
     unsigned arity = ir::funcArity(f->kind);

@@ -243,6 +243,9 @@ public:
 
   ir::ExprContext &ctx() { return model_->ctx(); }
   ir::Model &model() { return *model_; }
+  /// The parameter `homotopy.lambda` (1: the actual model) that every
+  /// homotopy() with a simplified model blends by; made on first use.
+  ir::ParamId homotopyLambda();
   DiagnosticEngine &diags() { return diags_; }
   ClassTable &classes() { return classes_; }
 

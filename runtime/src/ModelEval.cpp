@@ -1,6 +1,8 @@
 // Residual and Jacobian evaluation through the C ABI (see ModelEval.h).
 #include "ModelEval.h"
 
+#include <cstring>
+
 #include <cmath>
 #include <fmt/format.h>
 
@@ -156,6 +158,14 @@ int ModelEval::initJacobian(double t, const double *y, const double *yp,
       Gyp(m_.init_jac_rowind[q], c) = gyp[q];
     }
   return 0;
+}
+
+int ModelEval::paramIndex(const char *name) const {
+  for (int i = 0; i < m_.n_params; ++i)
+    if (m_.param_names && m_.param_names[i] &&
+        std::strcmp(m_.param_names[i], name) == 0)
+      return i;
+  return -1;
 }
 
 std::string ModelEval::varName(int i) const {

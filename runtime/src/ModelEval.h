@@ -23,6 +23,11 @@ public:
 
   const ldae_model &model() const { return m_; }
   const double *params() const { return p_.data(); }
+  /// Index of the parameter called `name`, or -1.
+  int paramIndex(const char *name) const;
+  /// Changes a parameter for every later evaluation (the homotopy
+  /// continuation of the initialization).
+  void setParam(int i, double v) { p_[i] = v; }
   int n() const { return m_.n; }
   const ldae_state_set &set(int k) const { return m_.state_sets[k]; }
 

@@ -154,14 +154,13 @@ std::string initFailure(const ModelEval &ev, int set, double t0,
   return fmt::format("initialization failed at t = {}: {}", t0, init.failure);
 }
 
-/// Finds the initial point; returns false (with the failure filled in)
-/// when there is none.
-bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
-                double tNext, SimResult &res, std::ostream *log) {
-  const ldae_model &m = ev.model();
+/// Finds the initial point from the start vector (y, yp) (IDA holds it);
+/// returns false (with the failure filled in) when there is none.
+bool initializeFrom(const ModelEval &ev, IdaIntegrator &ida, int set,
+                    double t0, double tNext, std::vector<double> y,
+                    std::vector<double> yp, SimResult &res,
+                    std::ostream *log) {
   int n = ev.n();
-  std::vector<double> y(m.start_y, m.start_y + n),
-      yp(m.start_yp, m.start_yp + n);
   if (isPlainIndexOne(ev, set, t0, y.data(), yp.data())) {
     int flag = ida.calcIC(tNext);
     if (flag >= 0) {
@@ -246,6 +245,84 @@ bool initialize(const ModelEval &ev, IdaIntegrator &ida, int set, double t0,
                         init.jumpDim, init.index,
                         init.nearestPoint ? "; nearest point used" : "");
   return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
+}
+
+/// The continuation of homotopy(): from the simplified model (lambda = 0),
+/// solved from the start values, to the actual one (lambda = 1), each
+/// initialization starting from the last; the step in lambda grows after a
+/// success and halves after a failure.
+bool homotopyContinuation(ModelEval &ev, IdaIntegrator &ida, int set,
+                          double t0, double tNext, int lambda, SimResult &res,
+                          std::ostream *log) {
+  const ldae_model &m = ev.model();
+  int n = ev.n();
+  std::vector<double> y(m.start_y, m.start_y + n),
+      yp(m.start_yp, m.start_yp + n);
+  auto from = [&](double l) {
+    ev.setParam(lambda, l);
+    res.failure.clear();
+    auto re = ida.reinit(set, t0, y.data(), yp.data());
+    return re && initializeFrom(ev, ida, set, t0, tNext, y, yp, res, nullptr);
+  };
+  if (!from(0.0)) {
+    ev.setParam(lambda, 1.0);
+    res.failure = "the simplified model of homotopy() (lambda = 0) does not "
+                  "initialize either: " + res.failure;
+    return false;
+  }
+  double l = 0, step = 0.1;
+  int steps = 0;
+  while (l < 1) {
+    y.assign(ida.y(), ida.y() + n);
+    yp.assign(ida.yp(), ida.yp() + n);
+    double next = std::min(1.0, l + step);
+    if (from(next)) {
+      l = next;
+      ++steps;
+      step *= 1.5;
+      continue;
+    }
+    step /= 2;
+    if (step < 1e-6) {
+      ev.setParam(lambda, 1.0);
+      res.failure = fmt::format("the homotopy continuation stalled at lambda "
+                                "= {:.6g}: ",
+                                l) +
+                    res.failure;
+      return false;
+    }
+    // Back to the last point reached.
+    ev.setParam(lambda, l);
+  }
+  if (log)
+    *log << fmt::format("initialization: homotopy continuation from the "
+                        "simplified model to the actual one in {} steps\n",
+                        steps);
+  return true;
+}
+
+/// Finds the initial point from the start values; where that fails and the
+/// model has homotopy(), continues from its simplified model. Returns false
+/// (with the failure filled in) when there is none.
+bool initialize(ModelEval &ev, IdaIntegrator &ida, int set, double t0,
+                double tNext, SimResult &res, std::ostream *log) {
+  const ldae_model &m = ev.model();
+  int n = ev.n();
+  std::vector<double> y(m.start_y, m.start_y + n),
+      yp(m.start_yp, m.start_yp + n);
+  if (initializeFrom(ev, ida, set, t0, tNext, y, yp, res, log))
+    return true;
+  int lambda = ev.paramIndex("homotopy.lambda");
+  if (lambda < 0 || ev.params()[lambda] != 1.0)
+    return false;
+  std::string direct = res.failure;
+  if (log)
+    *log << "initialization: failed from the start values; trying the "
+            "homotopy continuation\n";
+  if (homotopyContinuation(ev, ida, set, t0, tNext, lambda, res, log))
+    return true;
+  res.failure = direct + "\n  homotopy continuation: " + res.failure;
+  return false;
 }
 
 /// Restarts IDA at the current point with state set `to`.
