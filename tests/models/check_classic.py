@@ -22,6 +22,7 @@ import json
 import math
 import os
 import re
+import subprocess
 import sys
 
 from check_e2e import (HERE, ROOT, SKIP, check, finish, read_ref, run,
@@ -141,6 +142,24 @@ def rc_sciml(ldaec):
               for k in range(n))
     check(err <= 1e-6, "every capacitor voltage at t = 10 within 1e-6 of "
           "the closed form (max %.2e)" % err)
+    report = analyze(ldaec, model("rc_circuit_sciml.lsd"), "--param",
+                     "N=%d" % n)
+    owned = report["integrator_unknowns"]
+    check(sorted(owned) == sorted("capacitors[%d].v" % k
+                                  for k in range(1, n + 1)),
+          "the integrator owns the %d capacitor voltages only (of %d "
+          "unknowns): %s" % (n, report["system_unknowns"], owned))
+
+
+def analyze(ldaec, path, *args):
+    proc = subprocess.run([ldaec, "--no-progress", path, "--analyze",
+                           "--json"] + list(args), capture_output=True,
+                          text=True, timeout=120)
+    check(proc.returncode == 0, "ldaec --analyze --json exits 0")
+    if proc.returncode != 0:
+        sys.stderr.write(proc.stderr[-3000:])
+        finish()
+    return json.loads(proc.stdout)
 
 
 def fourbar(ldaec):
@@ -157,6 +176,16 @@ def fourbar(ldaec):
     closure = max(abs(r["xC"] - 3 - 2.5 * math.cos(r["th4"])) +
                   abs(r["yC"] - 2.5 * math.sin(r["th4"])) for r in torn)
     check(closure <= 1e-9, "the loop stays closed (max %.2e)" % closure)
+    loops = [b for b in analyze(ldaec, model("fourbar.lsd"))["causal"]
+             ["blocks"] if b["kind"] == "loop"]
+    check(len(loops) == 1, "one torn loop (%d)" % len(loops))
+    if loops:
+        iteration = [v for v in loops[0]["iteration"]
+                     if not v.startswith("der(")]
+        print("the loop: %s; iteration variables %s; residuals %s" % (
+            loops[0]["variables"], iteration, loops[0]["residuals"]))
+        check(1 <= len(iteration) <= 2, "1 or 2 iteration variables (%d)" %
+              len(iteration))
 
 
 def main():
