@@ -27,11 +27,13 @@ SimResult failNearOne(const ldae_model &m, const std::string &equation) {
   EXPECT_TRUE(std::regex_search(r->failure, at,
                                 std::regex("simulation failed at t = (\\S+):")))
       << r->failure;
-  if (at.size() > 1)
+  if (at.size() > 1) {
     EXPECT_NEAR(std::stod(at[1]), 1.0, 0.01);
-  if (!equation.empty())
+  }
+  if (!equation.empty()) {
     EXPECT_NE(r->failure.find("in " + equation), std::string::npos)
         << r->failure;
+  }
   EXPECT_NE(r->failure.find("hint: "), std::string::npos);
   EXPECT_LE(r->rows.back()[0], 1.0);
   return *r;
@@ -155,8 +157,9 @@ TEST(Failure, SparseSingularIterationMatrixNamesEquation) {
   // IDA may step past the fold before giving up (then the matrix is not
   // singular and no equation is named); an equation named is the fold's.
   size_t named = r.failure.find("\n  in equation ");
-  if (named != std::string::npos)
+  if (named != std::string::npos) {
     EXPECT_EQ(r.failure.substr(named, 17), "\n  in equation 2\n") << r.failure;
+  }
 }
 
 // A SUNDIALS call that rejects its input once the options were accepted

@@ -75,8 +75,9 @@ TEST(SparseInit, SameConsistentPointAsDenseNewton) {
   for (int i = 0; i < m.n; ++i) {
     EXPECT_NEAR(sparse.y[i], dense.y[i], 1e-12) << i;
     EXPECT_NEAR(sparse.yp[i], dense.yp[i], 1e-12) << i;
-    if (m.state_sets[0].is_differential[i])
+    if (m.state_sets[0].is_differential[i]) {
       EXPECT_EQ(sparse.y[i], y0[i]) << i; // differential values stay
+    }
   }
   EXPECT_LE(maxResidual(ev, sparse.y, sparse.yp), 1e-12);
   // The start point really was inconsistent: z moved.
