@@ -305,11 +305,15 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     }
     ir::ExprRef lambda = c.param(homotopyLambda());
     ir::ExprRef atOne = c.compare(ir::CompareKind::Eq, lambda, c.one());
-    for (size_t i = 0; i < a->elems.size(); ++i)
-      a->elems[i] = c.ifThenElse(
+    for (size_t i = 0; i < a->elems.size(); ++i) {
+      ir::ExprRef blend = c.ifThenElse(
           atOne, a->elems[i],
           c.add(c.mul(lambda, a->elems[i]),
                 c.mul(c.sub(c.one(), lambda), s->elems[i])));
+      model_->homotopies.emplace(blend,
+                                 std::make_pair(a->elems[i], s->elems[i]));
+      a->elems[i] = blend;
+    }
     return a;
   }
   if (const MathFn *f = mathFn(name)) {

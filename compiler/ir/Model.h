@@ -114,6 +114,9 @@ public:
   std::vector<Equation> equations;
   std::vector<Equation> initialEquations;
   std::vector<WhenClause> whenClauses;
+  /// The homotopy() calls with a simplified model, by the If node they were
+  /// lowered to: (actual, simplified), for printing the flat model.
+  std::unordered_map<ExprRef, std::pair<ExprRef, ExprRef>> homotopies;
   Experiment experiment;
 
   VarId addVariable(Variable v);
@@ -128,6 +131,7 @@ public:
   // NameResolver
   std::string variableName(VarId v) const override;
   std::string parameterName(ParamId p) const override;
+  const std::pair<ExprRef, ExprRef> *homotopyOf(ExprRef e) const override;
 
   /// Prints the whole model as lsd (the `--emit flat` format).
   std::string print() const;

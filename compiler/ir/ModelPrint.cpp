@@ -74,12 +74,20 @@ std::string parameterDecl(const Parameter &p) {
 
 } // namespace
 
+const std::pair<ExprRef, ExprRef> *Model::homotopyOf(ExprRef e) const {
+  auto it = homotopies.find(e);
+  return it == homotopies.end() ? nullptr : &it->second;
+}
+
 std::string Model::print() const {
   std::ostringstream os;
   std::string modelName = printIdentifier(name.empty() ? "Model" : name);
   os << "model " << modelName << "\n";
   for (const Parameter &p : parameters)
-    os << "  " << parameterDecl(p) << "\n";
+    // The blend parameter of homotopy() is the calls' own: they print as
+    // written and make it again.
+    if (homotopies.empty() || p.name != "homotopy.lambda")
+      os << "  " << parameterDecl(p) << "\n";
   for (const Variable &v : variables)
     os << "  " << variableDecl(v) << "\n";
 

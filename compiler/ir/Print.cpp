@@ -117,7 +117,7 @@ private:
     case ExprKind::Pow:
       return isReciprocal(e) ? PrecMul : PrecPow;
     case ExprKind::If:
-      return PrecIf;
+      return names_ && names_->homotopyOf(e) ? PrecPrimary : PrecIf;
     case ExprKind::Compare:
       return PrecRel;
     case ExprKind::And:
@@ -184,6 +184,14 @@ private:
       out_ += ')';
       return;
     case ExprKind::If:
+      if (const auto *h = names_ ? names_->homotopyOf(e) : nullptr) {
+        out_ += "homotopy(actual = ";
+        print(h->first, PrecIf, Ctx::Numeric);
+        out_ += ", simplified = ";
+        print(h->second, PrecIf, Ctx::Numeric);
+        out_ += ')';
+        return;
+      }
       out_ += "if ";
       print(e->operand(0), PrecOr, Ctx::Boolean);
       out_ += " then ";

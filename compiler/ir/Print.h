@@ -6,6 +6,7 @@
 #include "ir/ExprContext.h"
 
 #include <string>
+#include <utility>
 
 namespace ldae::ir {
 
@@ -15,6 +16,11 @@ public:
   virtual ~NameResolver() = default;
   virtual std::string variableName(VarId v) const = 0;
   virtual std::string parameterName(ParamId p) const = 0;
+  /// The (actual, simplified) of a homotopy() call the frontend lowered to
+  /// the If node `e`, so the call prints as written; null otherwise.
+  virtual const std::pair<ExprRef, ExprRef> *homotopyOf(ExprRef) const {
+    return nullptr;
+  }
 };
 
 /// lsd syntax: `der(x)`, `der(der(x))`, `pre(v)`, `time`, names from `names`
