@@ -18,6 +18,7 @@
 #include "numeric/Rank.h"
 
 #include <algorithm>
+#include <unordered_set>
 #include <cmath>
 
 namespace ldae::passes {
@@ -240,7 +241,8 @@ bool analyzeInitialization(PassContext &s, const ir::DaeSystem &sys,
         static_cast<int>(dm.over.cols.size()) <= kDenseLimit) {
       s.diags.report(DiagId::WarnInitRedundant,
                      is.loc[fixedRows.front()],
-                     {quotedList(rep.conflicting)});
+                     {quotedList(rep.conflicting), std::to_string(canTake),
+                      quotedList(rep.toFree)});
       rep.consistent = true;
     } else {
       Diagnostic &d = s.diags.report(
@@ -297,15 +299,26 @@ bool analyzeInitialization(PassContext &s, const ir::DaeSystem &sys,
 // The unreduced system of `--method raw` has no meaningful initialization
 // structure when the index exceeds one: raw does not run this pass.
 class InitializationPass
-    : public TypedPass<InitializationPass, Reads<ir::DaeSystem, BltResult>,
-                       Updates<>, Produces<InitResult>> {
+    : public TypedPass<InitializationPass, Reads<BltResult>,
+                       Updates<ir::DaeSystem>, Produces<InitResult>> {
 public:
   InitializationPass() : TypedPass(PassId::Init) {}
 
-  bool runOn(PassContext &ctx, const ir::DaeSystem &sys, const BltResult &blt,
+  bool runOn(PassContext &ctx, const BltResult &blt, ir::DaeSystem &sys,
              InitResult &out) {
     bool ok = analyzeInitialization(ctx, sys, blt, out.report);
     ctx.report.init = out.report;
+    // Redundant fixed values that agree: the ones the model cannot take
+    // become guesses. Holding them all would ask the runtime to meet the
+    // same condition twice, which values consistent only to rounding (the
+    // test set's 16 digits) cannot do to its tolerance.
+    if (ok && out.report.consistent && !out.report.toFree.empty()) {
+      std::unordered_set<std::string> free(out.report.toFree.begin(),
+                                           out.report.toFree.end());
+      for (ir::SystemUnknown &u : sys.unknowns)
+        if (u.fixed && free.count(u.name))
+          u.fixed = false;
+    }
     return ok;
   }
 };

@@ -94,8 +94,14 @@ TEST(Diagnostics, RedundantButConsistentFixedValuesAreAccepted) {
   EXPECT_EQ(run.diags[0].severity, Severity::Warning);
   EXPECT_EQ(run.diags[0].message,
             "the fixed start values of 'x' and 'y' are redundant but "
-            "consistent");
+            "consistent; the model takes 1 of them, the others ('y') are "
+            "start guesses");
   EXPECT_TRUE(run.result.init.consistent);
+  // The one the model cannot take is a guess from here on.
+  ASSERT_TRUE(run.result.system);
+  for (const ir::SystemUnknown &u : run.result.system->unknowns)
+    if (u.name == "x" || u.name == "y")
+      EXPECT_EQ(u.fixed, u.name == "x") << u.name;
 }
 
 TEST(Diagnostics, InitializationDegreesOfFreedom) {
