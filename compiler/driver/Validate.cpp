@@ -235,16 +235,23 @@ bool checkPasses(const Options &o, DiagnosticEngine &diags) {
 
 } // namespace
 
+// Commas inside brackets belong to a subscript: `u[2,2],x` is two names.
 std::vector<std::string> splitOutputs(const std::string &list) {
   std::vector<std::string> out;
-  for (size_t at = 0; at < list.size();) {
-    size_t comma = list.find(',', at);
-    if (comma == std::string::npos)
-      comma = list.size();
-    if (comma > at)
-      out.push_back(list.substr(at, comma - at));
-    at = comma + 1;
+  std::string name;
+  int depth = 0;
+  for (char ch : list) {
+    depth += ch == '[' ? 1 : ch == ']' && depth > 0 ? -1 : 0;
+    if (ch == ',' && depth == 0) {
+      if (!name.empty())
+        out.push_back(std::move(name));
+      name.clear();
+      continue;
+    }
+    name += ch;
   }
+  if (!name.empty())
+    out.push_back(std::move(name));
   return out;
 }
 
