@@ -139,6 +139,37 @@ std::string noConsistentPoint(const std::string &rows, double best) {
       rows.empty() ? std::string("the equations") : rows, best);
 }
 
+/// The unknowns residual rows `rows` read whose start values are guesses
+/// (not fixed): "; iteration variables 'x' (guess 0, reached 0.816); give
+/// start values near the solution for 'x'", or "" when there are none.
+std::string guessesOf(const ModelEval &ev, int set, const std::vector<int> &rows,
+                      const std::vector<double> &y0, const VectorXd &y) {
+  const ldae_model &m = ev.model();
+  const ldae_state_set &s = ev.set(set);
+  std::vector<char> bad(ev.n(), 0);
+  for (int r : rows)
+    if (r >= 0 && r < ev.n())
+      bad[r] = 1;
+  std::vector<std::string> vars, names;
+  for (int c = 0; c < ev.n() && vars.size() < 5; ++c) {
+    if ((m.fixed && m.fixed[c]) || s.is_differential[c])
+      continue;
+    bool reads = false;
+    for (int q = s.jac_colptr[c]; q < s.jac_colptr[c + 1] && !reads; ++q)
+      reads = bad[s.jac_rowind[q]];
+    if (!reads)
+      continue;
+    vars.push_back(fmt::format("'{}' (guess {:.6g}, reached {:.6g})",
+                               ev.varName(c), y0[c], y(c)));
+    names.push_back(fmt::format("'{}'", ev.varName(c)));
+  }
+  if (vars.empty())
+    return "";
+  return fmt::format("; iteration variables {}; give start values near the "
+                     "solution for {}",
+                     fmt::join(vars, ", "), fmt::join(names, ", "));
+}
+
 std::string domainFailure(const std::string &what) {
   return fmt::format("{} is outside its domain at the start values", what);
 }
@@ -351,6 +382,7 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
   int n = ev.n();
   double best = INFINITY;
   StepResult last;
+  VectorXd reached;
   for (Mode mode : {Mode::Jumps, Mode::Nearest}) {
     VectorXd y = Eigen::Map<const VectorXd>(y0.data(), n);
     VectorXd yp = Eigen::Map<const VectorXd>(yp0.data(), n);
@@ -383,6 +415,7 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
       if (!s.solvable && mode == Mode::Jumps)
         break; // no step along T: try the nearest point
     }
+    reached = y;
     if (mode == Mode::Jumps && log)
       *log << "warning: the start values cannot be made consistent along "
               "the jump directions; taking the consistent point nearest to "
@@ -393,7 +426,8 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
   int levels = last.levels;
   for (size_t i = 0; i < last.badRows.size() && i < 5; ++i)
     rows += (i ? ", " : "") + newton.describe(last.badRows[i], levels);
-  out.failure = noConsistentPoint(rows, best);
+  out.failure = noConsistentPoint(rows, best) +
+                guessesOf(ev, set, last.badRows, y0, reached);
   return out;
 }
 
