@@ -3,6 +3,7 @@
 #include "support/EditDistance.h"
 
 #include <algorithm>
+#include <charconv>
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
@@ -11,9 +12,23 @@
 
 namespace ldae::runtime {
 
+namespace {
+
+/// Longest text std::to_chars writes for a double in its shortest form
+/// ("-2.2250738585072014e-308" is 24 characters).
+constexpr size_t kMaxNumberChars = 32;
+
+/// Writes the shortest text that reads back to the same double: never the
+/// locale's decimal point, "inf", "-inf" and "nan" as strtod reads them.
+char *putValue(char *at, double v) {
+  return std::to_chars(at, at + kMaxNumberChars, v).ptr;
+}
+
+} // namespace
+
 std::string formatValue(double v) {
-  // fmt never uses the locale unless asked: always a '.' decimal point.
-  return fmt::format("{:.17g}", v);
+  char buf[kMaxNumberChars];
+  return std::string(buf, putValue(buf, v));
 }
 
 static std::string csvField(const std::string &s) {
@@ -25,20 +40,29 @@ static std::string csvField(const std::string &s) {
   return q + "\"";
 }
 
+// Numbers go straight into one buffer written in large blocks: formatting
+// a string per value ran at 45 MB/s, slower than integrating a large model.
 void writeCsv(const SimResult &result, std::ostream &out) {
-  std::string line;
+  std::string header;
   for (size_t c = 0; c < result.columns.size(); ++c)
-    line += (c ? "," : "") + csvField(result.columns[c]);
-  out << line << '\n';
+    header += (c ? "," : "") + csvField(result.columns[c]);
+  out << header << '\n';
+  constexpr size_t kBlock = 1 << 20;
+  std::vector<char> buf(kBlock + kMaxNumberChars + 2);
+  char *at = buf.data();
   for (const auto &row : result.rows) {
-    line.clear();
     for (size_t c = 0; c < row.size(); ++c) {
       if (c)
-        line += ',';
-      line += formatValue(row[c]);
+        *at++ = ',';
+      at = putValue(at, row[c]);
+      if (at - buf.data() >= static_cast<ptrdiff_t>(kBlock)) {
+        out.write(buf.data(), at - buf.data());
+        at = buf.data();
+      }
     }
-    out << line << '\n';
+    *at++ = '\n';
   }
+  out.write(buf.data(), at - buf.data());
   out.flush();
 }
 

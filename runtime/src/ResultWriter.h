@@ -15,7 +15,8 @@ void writeCsv(const SimResult &result, std::ostream &out);
 /// Writes `result` as CSV to the file `path` ("-" is stdout).
 Expected<bool> writeCsv(const SimResult &result, const std::string &path);
 
-/// Formats one value as the CSV does (17 significant digits, `.` point).
+/// Formats one value as the CSV does: the shortest text that reads back to
+/// the same double, `.` point.
 std::string formatValue(double v);
 
 /// Indices into `available` of the `wanted` names, in the order asked.

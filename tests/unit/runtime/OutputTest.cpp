@@ -5,6 +5,7 @@
 #include "Simulator.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -13,15 +14,48 @@
 
 using namespace ldae::runtime;
 
-TEST(Output, CsvHasHeaderAndSeventeenDigits) {
+// The shortest text that reads back to the same double, for every value,
+// the extremes and non-finite ones included.
+TEST(Output, CsvHasHeaderAndShortestRoundTripNumbers) {
   SimResult r;
   r.columns = {"time", "x", "m[2].s"};
   r.rows = {{0, 0.1, -1e-300}, {1, 1.0 / 3, 2.5}};
   std::ostringstream out;
   writeCsv(r, out);
   EXPECT_EQ(out.str(), "time,x,m[2].s\n"
-                       "0,0.10000000000000001,-1e-300\n"
-                       "1,0.33333333333333331,2.5\n");
+                       "0,0.1,-1e-300\n"
+                       "1,0.3333333333333333,2.5\n");
+  const double values[] = {0.1 + 0.2, 1e22, 5e-324, -2.2250738585072014e-308,
+                           1.7976931348623157e308, 123456789012345680.0,
+                           std::nextafter(1.0, 2.0)};
+  for (double v : values)
+    EXPECT_EQ(std::strtod(formatValue(v).c_str(), nullptr), v) << formatValue(v);
+  EXPECT_EQ(formatValue(0.1 + 0.2), "0.30000000000000004");
+  EXPECT_EQ(formatValue(INFINITY), "inf");
+  EXPECT_EQ(formatValue(-INFINITY), "-inf");
+  EXPECT_EQ(formatValue(NAN), "nan");
+}
+
+// Rows longer than the writer's block go out whole and in order.
+TEST(Output, CsvOfManyRowsReadsBack) {
+  SimResult r;
+  r.columns = {"time", "x"};
+  for (int i = 0; i < 200000; ++i)
+    r.rows.push_back({i * 0.001, std::sin(i * 0.001) / 3});
+  std::ostringstream out;
+  writeCsv(r, out);
+  std::istringstream in(out.str());
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "time,x");
+  for (const auto &row : r.rows) {
+    ASSERT_TRUE(std::getline(in, line));
+    size_t comma = line.find(',');
+    ASSERT_NE(comma, std::string::npos);
+    EXPECT_EQ(std::strtod(line.substr(0, comma).c_str(), nullptr), row[0]);
+    EXPECT_EQ(std::strtod(line.c_str() + comma + 1, nullptr), row[1]);
+  }
+  EXPECT_FALSE(std::getline(in, line));
 }
 
 TEST(Output, CloseNames) {
