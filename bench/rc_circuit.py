@@ -91,6 +91,7 @@ def main():
     table = "\n".join(lines)
     print(table)
     if args.doc:
+        os.environ["LDAE_BENCH_DOC"] = "1"
         before_text = ("`%s`" % os.path.relpath(args.before, ROOT)
                        if args.before else "`--causalize off`")
         write_section(DOC, "RC circuit", "\n".join([

@@ -4,8 +4,10 @@
 # the figures into docs/benchmarks.md under "## Analysis". Targets: the
 # 100,000-equation index-1 chain and the 10,000-body index-3 chain each
 # analyzed in under 2 s.
-# Usage: bench/run_analysis.sh [build-dir]   (default: build)
+# Usage: bench/run_analysis.sh [--doc] [build-dir]   (default: build)
 set -eu
+# --doc: write the figures into docs/benchmarks.md (never by default).
+if [ "${1:-}" = "--doc" ]; then export LDAE_BENCH_DOC=1; shift; fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 bin=$build/bench/analysis_bench

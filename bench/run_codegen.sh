@@ -3,9 +3,11 @@
 # the emitted C and the interpreter against hand-written C; JIT compile time
 # for 10^3, 10^4, 10^5 equations) and writes the figures into
 # docs/benchmarks.md under "## Codegen".
-# Usage: bench/run_codegen.sh [build-dir]   (default: build; or set
+# Usage: bench/run_codegen.sh [--doc] [build-dir]   (default: build; or set
 # CODEGEN_BENCH to the benchmark binary)
 set -eu
+# --doc: write the figures into docs/benchmarks.md (never by default).
+if [ "${1:-}" = "--doc" ]; then export LDAE_BENCH_DOC=1; shift; fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 bin=${CODEGEN_BENCH:-$build/bench/codegen_bench}

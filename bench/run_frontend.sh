@@ -2,8 +2,10 @@
 # Runs the frontend benchmark (parse + flatten of a 100000-equation for-chain
 # and of a 10000-instance RC ladder, and of both at 10x) and writes the
 # table into docs/benchmarks.md under "## Frontend".
-# Usage: bench/run_frontend.sh [build-dir] [repetitions]   (default: build, 3)
+# Usage: bench/run_frontend.sh [--doc] [build-dir] [repetitions]   (default: build, 3)
 set -eu
+# --doc: write the figures into docs/benchmarks.md (never by default).
+if [ "${1:-}" = "--doc" ]; then export LDAE_BENCH_DOC=1; shift; fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 reps=${2:-3}

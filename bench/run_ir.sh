@@ -2,8 +2,10 @@
 # Runs the IR benchmark at 1e5 and 1e6 nodes, checks that differentiation
 # time grows linearly (10x the nodes may take at most 12x the time) and
 # writes the figures into docs/benchmarks.md under "## IR".
-# Usage: bench/run_ir.sh [build-dir]   (default: build)
+# Usage: bench/run_ir.sh [--doc] [build-dir]   (default: build)
 set -eu
+# --doc: write the figures into docs/benchmarks.md (never by default).
+if [ "${1:-}" = "--doc" ]; then export LDAE_BENCH_DOC=1; shift; fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 bin=$build/bench/ir_bench

@@ -23,7 +23,7 @@ EOT
 )
 printf '%s\n' "$section"
 if [ "$doc" = yes ]; then
-  SECTION="$section" LDAE_BENCH_DIR="$root/bench" /usr/bin/python3 - "$root/docs/benchmarks.md" <<'PY'
+  SECTION="$section" LDAE_BENCH_DOC=1 LDAE_BENCH_DIR="$root/bench" /usr/bin/python3 - "$root/docs/benchmarks.md" <<'PY'
 import os, sys
 sys.path.insert(0, os.environ["LDAE_BENCH_DIR"])
 from benchdoc import write_section

@@ -5,8 +5,10 @@
 # Same tolerances; compares step counts (target: within 10%) and time per
 # run (target: ours <= 1.2x). Writes the figures under `## Runtime` in
 # docs/benchmarks.md.
-# Usage: bench/run_runtime.sh [build-dir]   (default: build)
+# Usage: bench/run_runtime.sh [--doc] [build-dir]   (default: build)
 set -eu
+# --doc: write the figures into docs/benchmarks.md (never by default).
+if [ "${1:-}" = "--doc" ]; then export LDAE_BENCH_DOC=1; shift; fi
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 reps=${REPS:-300}
