@@ -87,7 +87,6 @@ private:
   void findEligible();
   Solvability solvability(int row, ir::VarKey k, ir::ExprRef *coef);
   void scalarBlock(int row, int col);
-  std::string keptReason(int row, int col) const;
   void loopBlock(const std::vector<int> &rows);
   bool rebuild();
 
@@ -99,7 +98,9 @@ private:
   const int n_;
   std::vector<bool> differential0_; // set 0
   std::vector<bool> differentialAny_;
-  std::vector<char> eligible_;  // unknown may be substituted away
+  /// Per unknown: why it must keep its slot, or null when it may be
+  /// substituted away.
+  std::vector<const char *> held_;
   std::vector<char> commonRow_; // residual row shared by every set
   graph::BipartiteGraph graph_;
   graph::Matching matching_;
@@ -129,13 +130,18 @@ void Causalizer::findEligible() {
   for (ir::ExprRef e : ir::topologicalOrder(roots))
     if (e->kind() == ir::ExprKind::Pre)
       readByPre.insert(e->var());
-  eligible_.assign(n_, 0);
+  held_.assign(n_, nullptr);
   for (int u = 0; u < n_; ++u) {
     const ir::SystemUnknown &su = sys_.unknowns[u];
-    bool ok = !differentialAny_[u] && !su.fixed && !readByPre.count(su.key.var);
+    if (differentialAny_[u])
+      held_[u] = "a state in another candidate state set";
+    else if (su.fixed)
+      held_[u] = "fixed = true";
+    else if (readByPre.count(su.key.var))
+      held_[u] = "read by pre()";
     for (const ir::StateSet &st : sys_.stateSets)
-      ok = ok && (st.keys.empty() || st.keys[u] == su.key);
-    eligible_[u] = ok;
+      if (!held_[u] && !st.keys.empty() && st.keys[u] != su.key)
+        held_[u] = "its slot changes meaning between candidate state sets";
   }
 }
 
@@ -155,20 +161,6 @@ Solvability Causalizer::solvability(int row, ir::VarKey k, ir::ExprRef *coef) {
   return Solvability::Variable;
 }
 
-std::string Causalizer::keptReason(int row, int col) const {
-  const ir::SystemUnknown &u = sys_.unknowns[col];
-  if (differentialAny_[col])
-    return "a state in another candidate state set";
-  if (u.fixed)
-    return "fixed = true";
-  if (!commonRow_[row])
-    return "its equation differs between candidate state sets";
-  for (const ir::StateSet &st : sys_.stateSets)
-    if (!st.keys.empty() && st.keys[col] != u.key)
-      return "its slot changes meaning between candidate state sets";
-  return "read by pre()";
-}
-
 void Causalizer::scalarBlock(int row, int col) {
   CausalBlock b;
   b.variables.push_back(columnName(col));
@@ -180,22 +172,23 @@ void Causalizer::scalarBlock(int row, int col) {
     b.residuals = 1;
     if (solvability(row, derivativeKey(col), &coef) == Solvability::No)
       explicitDerivatives_ = false;
-  } else if (eligible_[col] && commonRow_[row] &&
-             solvability(row, key(col), &coef) != Solvability::No) {
+  } else if (solvability(row, key(col), &coef) == Solvability::No) {
+    b.kind = CausalBlock::Kind::Nonlinear;
+    b.iteration.push_back(columnName(col));
+    b.residuals = 1;
+  } else if (held_[col] || !commonRow_[row]) {
+    // An equation that could compute it; say why the integrator keeps it.
+    b.kind = CausalBlock::Kind::Kept;
+    b.iteration.push_back(columnName(col));
+    b.residuals = 1;
+    b.reason = held_[col] ? held_[col]
+                          : "its equation differs between candidate state sets";
+  } else {
     // The coefficient is this block's whole Jacobian: where it vanishes
     // the equation does not determine the variable at all.
     b.kind = CausalBlock::Kind::Explicit;
     assignments_.push_back({row, col, coef});
     rowAssigned_[row] = unknownAssigned_[col] = 1;
-  } else {
-    b.kind = CausalBlock::Kind::Nonlinear;
-    b.iteration.push_back(columnName(col));
-    b.residuals = 1;
-    // Say why a variable the equation could compute stays the integrator's.
-    if (solvability(row, key(col), &coef) != Solvability::No) {
-      b.kind = CausalBlock::Kind::Kept;
-      b.reason = keptReason(row, col);
-    }
   }
   out_.blocks.push_back(std::move(b));
 }
@@ -252,7 +245,7 @@ void Causalizer::loopBlock(const std::vector<int> &rows) {
     makeKnown(j);
   };
   for (size_t j = 0; j < nc; ++j)
-    if (differential0_[cols[j]] || !eligible_[cols[j]])
+    if (differential0_[cols[j]] || held_[cols[j]])
       tear(static_cast<int>(j));
   for (size_t i = 0; i < nr; ++i)
     if (unknownCount[i] == 1)

@@ -319,30 +319,36 @@ private:
   void findProjectedBlocks() {
     int n = ev_.n(), cols = L_.numCols();
     std::vector<std::vector<int>> colRows = graph_.columns();
-    std::vector<char> seen(cols, 0);
-    std::vector<int> stack;
     std::vector<char> isKeep(cols, 0);
     for (int c : keepCol_)
       isKeep[c] = 1;
+    // The columns reachable from `starts`, each column's successors given
+    // by `next(c, visit)`.
+    std::vector<char> seen(cols, 0);
+    auto reach = [&](const std::vector<int> &starts, auto next) {
+      std::fill(seen.begin(), seen.end(), 0);
+      std::vector<int> stack;
+      auto visit = [&](int c) {
+        if (!seen[c]) {
+          seen[c] = 1;
+          stack.push_back(c);
+        }
+      };
+      for (int c : starts)
+        visit(c);
+      while (!stack.empty()) {
+        int c = stack.back();
+        stack.pop_back();
+        next(c, visit);
+      }
+    };
     // Forward from the kept x columns: c -> rows containing c -> their
     // matched columns; the moved x columns reached are ambiguous.
-    for (int c : keepCol_) {
-      seen[c] = 1;
-      stack.push_back(c);
-    }
-    while (!stack.empty()) {
-      int c = stack.back();
-      stack.pop_back();
-      for (int r : colRows[c]) {
-        if (L_.kind(r) == RowKind::Keep)
-          continue;
-        int next = match_.rowMate[r];
-        if (next >= 0 && !seen[next]) {
-          seen[next] = 1;
-          stack.push_back(next);
-        }
-      }
-    }
+    reach(keepCol_, [&](int c, auto &visit) {
+      for (int r : colRows[c])
+        if (L_.kind(r) != RowKind::Keep && match_.rowMate[r] >= 0)
+          visit(match_.rowMate[r]);
+    });
     std::vector<int> movedReached;
     for (int c = n; c < cols; ++c)
       if (seen[c] && !isKeep[c])
@@ -350,23 +356,12 @@ private:
     if (movedReached.empty())
       return;
     // Backwards from those: the kept columns whose value reaches them.
-    std::fill(seen.begin(), seen.end(), 0);
-    for (int c : movedReached) {
-      seen[c] = 1;
-      stack.push_back(c);
-    }
-    while (!stack.empty()) {
-      int c = stack.back();
-      stack.pop_back();
+    reach(movedReached, [&](int c, auto &visit) {
       int r = match_.colMate[c];
-      if (r < 0 || L_.kind(r) == RowKind::Keep)
-        continue;
-      for (int c2 : graph_.rows[r])
-        if (!seen[c2]) {
-          seen[c2] = 1;
-          stack.push_back(c2);
-        }
-    }
+      if (r >= 0 && L_.kind(r) != RowKind::Keep)
+        for (int c2 : graph_.rows[r])
+          visit(c2);
+    });
     for (size_t k = 0; k < keepCol_.size(); ++k)
       if (seen[keepCol_[k]])
         freeKeep_.push_back(int(k));

@@ -16,34 +16,19 @@
 Usage: heat2d_check.py LDAEC MODEL (heat2d.lsd; heat2d_tied.lsd is read from
 its folder). Standard library only.
 """
-import csv
-import io
 import math
 import os
-import subprocess
 import sys
 
-failures = []
-
-
-def check(ok, what):
-    print(("ok:   " if ok else "FAIL: ") + what)
-    if not ok:
-        failures.append(what)
+from check_e2e import check, finish, run
 
 
 def simulate(ldaec, model, n, extra=()):
-    proc = subprocess.run(
-        [ldaec, "--no-progress", model, "--simulate", "--param", "N=%d" % n,
-         "--rtol", "1e-10", "--atol", "1e-10"] + list(extra),
-        capture_output=True, text=True, timeout=300)
-    if proc.returncode != 0:
-        sys.stderr.write(proc.stderr[-3000:])
-        check(False, "ldaec exited %d for N = %d" % (proc.returncode, n))
-        return None, proc.stderr
-    rows = [{k: float(v) for k, v in r.items()}
-            for r in csv.DictReader(io.StringIO(proc.stdout))]
-    return rows, proc.stderr
+    """The CSV rows and the log of one run (a failed run ends the check)."""
+    _, rows, log = run(ldaec, [model, "--simulate", "--param", "N=%d" % n,
+                               "--rtol", "1e-10", "--atol", "1e-10"] +
+                       list(extra))
+    return rows, log
 
 
 def value(row, i, j):
@@ -119,7 +104,7 @@ def main():
                     if (i, j) not in ((2, 2), (3, 3), (4, 4)))
         check(worst < 1e-12, "tied: the other values on the profile "
               "(largest difference %.1e)" % worst)
-    sys.exit(1 if failures else 0)
+    finish()
 
 
 if __name__ == "__main__":
