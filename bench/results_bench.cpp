@@ -3,7 +3,7 @@
 // value, on the same rows, both written to /dev/null in the same run.
 // Prints one markdown table row per size (see bench/run_results.sh).
 #include "ResultWriter.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <chrono>
 #include <cmath>

@@ -5,7 +5,7 @@
 // Prints one line: steps and microseconds per run (best of several batches).
 // bench/run_runtime.sh compares it with the example itself.
 #include "../tests/unit/runtime/HandModels.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <chrono>
 #include <cmath>
@@ -22,7 +22,7 @@ int main(int argc, char **argv) {
   o.stop = 4e10;
   o.rtol = 1e-4;
   o.atol = 1e-8;
-  o.suppressAlgebraic = false;
+  o.algebraicErrorTest = true;
   o.progress = false;
   for (int k = 0; k < 12; ++k)
     o.times.push_back(0.4 * std::pow(10.0, k));

@@ -12,7 +12,7 @@
 #include "support/Diagnostics.h"
 #include "Plot.h"
 #include "ResultWriter.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <nlohmann/json.hpp>
 
@@ -193,7 +193,8 @@ static int run(int argc, char **argv) {
   simOpts.times = opts.outputTimes;
   if (!opts.stopTime && !opts.outputTimes.empty())
     simOpts.stop = opts.outputTimes.back(); // explicit times end the run
-  simOpts.suppressAlgebraic = !opts.algebraicErrorTest;
+  if (opts.algebraicErrorTest)
+    simOpts.algebraicErrorTest = true;
   simOpts.outputs = passOpts.outputs;
   if (simOpts.outputs.empty()) {
     // By default the model's own variables; derivatives only when asked.

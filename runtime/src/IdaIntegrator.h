@@ -7,7 +7,7 @@
 #pragma once
 
 #include "ModelEval.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <memory>
 #include <string>

@@ -3,7 +3,7 @@
 // when gnuplot has it, else png).
 #pragma once
 
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <string>
 #include <vector>

@@ -2,7 +2,7 @@
 // point and 17 significant digits (round-trips doubles exactly).
 #pragma once
 
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <iosfwd>
 #include <string>

@@ -2,7 +2,7 @@
 // consistent initial point, step IDA one internal step at a time,
 // interpolate onto the output grid, switch state sets when the current
 // one's pivot degrades, and keep the results of a failed run.
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 #include "ConsistentInit.h"
 #include "SparseInit.h"
 #include "FailureReport.h"
@@ -462,7 +462,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   IdaIntegrator ida(ev);
   // IDA needs stop > start; a zero-length run still initializes.
   auto ok = ida.init(set, s.start, m.start_y, m.start_yp, s.rtol, atol,
-                     span > 0 ? s.stop : s.start + 1e-6, o.suppressAlgebraic);
+                     span > 0 ? s.stop : s.start + 1e-6, !o.algebraicErrorTest.value_or(false));
   if (!ok) {
     // The options were fine; a SUNDIALS call failing from here on is a
     // numerical failure of this run (status 3), never a command-line error.

@@ -2,7 +2,7 @@
 // message with the time and the equation, and the results so far.
 #include "HandModels.h"
 #include "ResultWriter.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <gtest/gtest.h>
 #include <regex>

@@ -2,7 +2,7 @@
 // values, algebraic ones are solved; an index-2 linear model moves its start
 // vector along the jump space T(E, F) computed by the Wong sequence.
 #include "HandModels.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 #include "numeric/WongSequence.h"
 
 #include <cmath>

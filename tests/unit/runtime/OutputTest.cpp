@@ -2,7 +2,7 @@
 #include "HandModels.h"
 #include "Plot.h"
 #include "ResultWriter.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <cmath>
 #include <cstdlib>

@@ -2,7 +2,7 @@
 // the polar formulation integrated independently (scipy DOP853 at 1e-13,
 // tests/models/reference/pendulum_ref.py).
 #include "HandModels.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 #include "TestUtil.h"
 
 #include <cmath>

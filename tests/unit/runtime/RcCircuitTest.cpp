@@ -1,7 +1,7 @@
 // The RC circuit against its analytic solution v = V0 (1 - exp(-t / RC)).
 #include "HandModels.h"
 #include "ResultWriter.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 #include "TestUtil.h"
 
 #include <cmath>

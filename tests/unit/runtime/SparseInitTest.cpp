@@ -5,7 +5,7 @@
 #include "ConsistentInit.h"
 #include "HandModels.h"
 #include "SparseInit.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <cmath>
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // looking up result columns.
 #pragma once
 
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <fstream>
 #include <sstream>

@@ -1,8 +1,9 @@
-// The simulation driver's public API: integrate a compiled model (the C ABI
-// struct ldae_model) with IDA from a consistent initial point, switching
-// state sets when their pivot matrix degrades, and collect the results.
-// The driver (compiler/driver) and the benchmarks call only this header,
-// ResultWriter.h and Plot.h.
+// The runtime's public C++ API: integrate a compiled model (the C ABI
+// struct ldae_model) with IDA or CVODE from a consistent initial point,
+// switching state sets when their pivot matrix degrades, and collect the
+// results. The driver (compiler/driver), the C entry point of emitted
+// programs and the benchmarks call only this header, ResultWriter.h and
+// Plot.h.
 #pragma once
 
 #include "ldae/model.h"
@@ -15,6 +16,10 @@
 #include <vector>
 
 namespace ldae::runtime {
+
+/// Which SUNDIALS integrator runs the model. Auto: CVODE (BDF) when the
+/// model is an explicit ODE (ldae_model::explicit_ode), IDA otherwise.
+enum class IntegratorChoice { Auto, Ida, CvodeBdf, CvodeAdams };
 
 /// What the user asked for; unset values fall back to the model's
 /// experiment annotation, then to start 0, stop 1, rtol 1e-6,
@@ -34,11 +39,10 @@ struct SimOptions {
   /// Where initialization reports, state switches and warnings go
   /// (nullptr: nowhere).
   std::ostream *log = nullptr;
-  /// Keep algebraic unknowns out of IDA's error test (IDASetSuppressAlg):
-  /// index-1 theory makes their error follow the differential ones, and
-  /// dummy derivatives would otherwise force tiny steps. Turn off to have
-  /// small algebraic values (Robertson's y3) error-controlled too.
-  bool suppressAlgebraic = true;
+  IntegratorChoice integrator = IntegratorChoice::Auto;
+  /// Whether IDA's local error test includes the algebraic unknowns
+  /// (IDASetSuppressAlg). Unset: the default rule of docs/runtime.md.
+  std::optional<bool> algebraicErrorTest;
   /// Parameter values overriding the model's defaults, by name.
   std::map<std::string, double> params;
 };
@@ -56,6 +60,7 @@ struct SimStats {
   double wallTime = 0; ///< seconds, initialization included
   double initTime = 0; ///< seconds spent finding the initial point
   bool sparse = false; ///< KLU (true) or dense LU (false)
+  std::string integrator; ///< "IDA", "CVODE (BDF)", "CVODE (Adams)"
   int n = 0;           ///< unknowns
 };
 
