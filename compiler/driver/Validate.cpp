@@ -6,7 +6,7 @@
 #include "frontend/Frontend.h"
 #include "passes/Pipeline.h"
 #include "ResultWriter.h"
-#include "Simulator.h"
+#include "ldae/Simulation.h"
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
