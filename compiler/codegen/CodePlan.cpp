@@ -688,6 +688,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
       plan.outputOrigin.push_back(origin(o.loc, ""));
   for (const ir::SystemOutput &o : sys.outputs)
     plan.outputNames.push_back(o.name);
+  plan.explicitOde = sys.explicitOde;
 
   const unsigned nParams = plan.paramValues.size();
   ir::Differentiator diff(*sys.ctx);

@@ -172,6 +172,7 @@ struct CodePlan {
   unsigned n = 0, nInit = 0, nRoots = 0, nOutputs = 0, nDrift = 0;
   std::vector<std::string> varNames, paramNames, outputNames, residualOrigin;
   std::vector<std::string> outputOrigin; // empty, or one per output
+  bool explicitOde = false; // ldae_model::explicit_ode
   std::vector<double> startY, startYp, nominal, paramValues;
   std::vector<int> fixed;
   double startTime, stopTime, tolerance, interval; // NaN when unset

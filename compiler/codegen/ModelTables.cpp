@@ -60,6 +60,7 @@ ModelTables::ModelTables(const CodePlan &plan) {
       plan.residualOrigin.empty() ? nullptr : names(plan.residualOrigin);
   m.output_origin =
       plan.outputOrigin.empty() ? nullptr : names(plan.outputOrigin);
+  m.explicit_ode = plan.explicitOde ? 1 : 0;
   m.start_time = plan.startTime;
   m.stop_time = plan.stopTime;
   m.tolerance = plan.tolerance;

@@ -76,6 +76,9 @@ struct DaeSystem {
   std::vector<SourceLoc> residualLocs;
   std::vector<double> parameterValues;
   std::vector<std::string> parameterNames;
+  /// Row i of the only state set is der(unknown i) - f_i(t, y) (the causal
+  /// form "ODE"; ldae_model::explicit_ode).
+  bool explicitOde = false;
 };
 
 /// Whether slot i of state set `set` is differential (a set without its

@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 3
+#define LDAE_ABI_VERSION 4
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -141,6 +141,12 @@ typedef struct ldae_model {
      "file:line:col", "" where none: a state, an alias), for the failure
      message of an output that leaves its domain. May be NULL. */
   const char *const *output_origin;
+
+  /* 1 when the model is an explicit ODE: one state set, every unknown
+     differential, and row i of its residual is y'[i] - f_i(t, y) (the
+     causal form "ODE"), so f(t, y) = -F(t, y, 0) and df/dy = -J(cj = 0).
+     CVODE runs such a model; 0 otherwise. */
+  int explicit_ode;
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians
