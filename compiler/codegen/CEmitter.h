@@ -7,8 +7,8 @@
 
 namespace ldae::codegen {
 
-/// The C file of `plan`; with `withMain`, also a `main` integrating the
-/// model with IDA and writing CSV (see docs/embedding-c.md).
+/// The C file of `plan`; with `withMain`, also a `main` running the model
+/// with the runtime's ldae_main (libldaert; see docs/embedding-c.md).
 std::string printC(const CodePlan &plan, bool withMain);
 
 } // namespace ldae::codegen

@@ -6,7 +6,6 @@
 #include "codegen/Interpreter.h"
 #include "codegen/LlvmEmitter.h"
 #include "codegen/ModelTables.h"
-#include "support/Diagnostics.h"
 
 namespace ldae::codegen {
 
@@ -101,26 +100,6 @@ Expected<std::string> emitC(const ir::DaeSystem &sys, bool withMain,
   if (!plan)
     return Error{plan.error()};
   return printC(*plan, withMain);
-}
-
-bool checkEmittedMain(const ir::DaeSystem &sys, DiagnosticEngine &diags) {
-  bool ok = true;
-  const ir::StateSet &set = sys.stateSets[0];
-  for (size_t i = 0; i < sys.unknowns.size(); ++i) {
-    const ir::SystemUnknown &u = sys.unknowns[i];
-    bool differential =
-        set.differential.empty() ? u.differential : set.differential[i];
-    if (u.fixed && !differential) {
-      diags.report(DiagId::ErrMainFixedAlgebraic, u.loc, {u.name});
-      ok = false;
-    }
-  }
-  if (sys.model && !sys.initialResiduals.empty()) {
-    for (const ir::Equation &e : sys.model->initialEquations)
-      diags.report(DiagId::ErrMainInitialEquation, e.loc);
-    ok = false;
-  }
-  return ok;
 }
 
 } // namespace ldae::codegen

@@ -12,7 +12,6 @@
 
 namespace ldae {
 class SourceManager;
-class DiagnosticEngine;
 }
 
 namespace ldae::codegen {
@@ -45,13 +44,9 @@ Expected<std::string> emitLlvm(const ir::DaeSystem &sys,
                                const CodegenOptions &opts = {});
 
 /// `--emit c [--main]`: one self-contained C99 file; with `withMain` also a
-/// `main` integrating the model with IDA (docs/embedding-c.md).
+/// `main` handing the model to the runtime's ldae_main (libldaert), which
+/// runs it as `ldaec --simulate` does (docs/embedding-c.md).
 Expected<std::string> emitC(const ir::DaeSystem &sys, bool withMain,
                             const CodegenOptions &opts = {});
-
-/// Whether the main `emitC` writes can run `sys` as the model says: it
-/// starts from the start values with IDACalcIC, so initial equations would
-/// be dropped. Reports each one it cannot honour (never silently drops).
-bool checkEmittedMain(const ir::DaeSystem &sys, DiagnosticEngine &diags);
 
 } // namespace ldae::codegen

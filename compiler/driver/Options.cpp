@@ -24,7 +24,8 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_option("--emit", o.emit, "print an intermediate form")
       ->check(CLI::IsMember({"flat", "reduced", "llvm", "c"}));
   app.add_flag("--main", o.emitMain,
-               "with --emit c: add a main() that integrates with IDA");
+               "with --emit c: add a main() that runs the model as --simulate "
+               "does (links libldaert, docs/embedding-c.md)");
   app.add_option("-o,--output", o.outputFile, "output file (default stdout)");
 
   app.add_option("--start", o.startTime, "start time");

@@ -145,11 +145,6 @@ static int run(int argc, char **argv) {
   cgOpts.jit = opts.jit == "on";
   cgOpts.sources = &sources;
   if (opts.emit == "llvm" || opts.emit == "c") {
-    if (opts.emitMain &&
-        !codegen::checkEmittedMain(*analysis.system, diags)) {
-      diags.flush(std::cerr);
-      return 1;
-    }
     Expected<std::string> text =
         opts.emit == "llvm"
             ? codegen::emitLlvm(*analysis.system, cgOpts)

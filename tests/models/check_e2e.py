@@ -216,12 +216,11 @@ def raw(ldaec):
           "the consistent start row is kept")
 
 
-# 6. --emit c --main compiled with cc equals --simulate. The emitted main
-# keeps state set 0 (no switching, docs/embedding-c.md), so the model is
-# Robertson, where one set is enough.
+# 6. --emit c --main, built with the command its header prints, equals
+# --simulate (the same runtime code: check_emit_main.py tests the rest).
 def emit_c(ldaec, model):
-    cc = shutil.which("cc")
-    if not cc:
+    from check_emit_main import compile_command, compile_emitted
+    if not shutil.which("cc"):
         print("skipped: no cc")
         sys.exit(SKIP)
     args = ["--stop", "400", "--interval", "4", "--rtol", "1e-10"]
@@ -229,13 +228,12 @@ def emit_c(ldaec, model):
     with tempfile.TemporaryDirectory(dir=os.getcwd()) as tmp:
         src, exe = os.path.join(tmp, "model.c"), os.path.join(tmp, "model")
         run(ldaec, [model, "--emit", "c", "--main", "-o", src])
-        build = subprocess.run(
-            [cc, "-O2", src, "-lsundials_ida", "-lsundials_nvecserial",
-             "-lsundials_sunlinsoldense", "-lsundials_sunmatrixdense", "-lm",
-             "-o", exe], capture_output=True, text=True)
-        check(build.returncode == 0, "cc compiles the emitted C")
-        if build.returncode != 0:
-            sys.stderr.write(build.stderr[-3000:])
+        build = compile_emitted(src, exe)
+        check(build is not None and build.returncode == 0,
+              "cc compiles the emitted C: " +
+              " ".join(compile_command(src, exe) or ["(no command)"]))
+        if build is None or build.returncode != 0:
+            sys.stderr.write(build.stderr[-3000:] if build else "")
             finish()
         proc = subprocess.run([exe] + args, capture_output=True, text=True,
                               timeout=60)
