@@ -64,8 +64,9 @@ void printUsage(const ldae_model &m, const ldae_bindings &b) {
       "[--atol A]\n"
       "               [--integrator auto|ida|cvode|cvode-bdf|cvode-adams] "
       "[--stats]\n"
-      "               [--param NAME=VALUE]... [-o FILE] [--no-progress] "
-      "[--help]\n"
+      "               [--algebraic-error-test] [--param NAME=VALUE]... "
+      "[-o FILE]\n"
+      "               [--no-progress] [--help]\n"
       "Exit codes: 0 success, 1 internal error, 2 bad command line, "
       "3 numerical failure\n"
       "(the rows up to it are written).\n",
@@ -153,6 +154,10 @@ bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
     }
     if (a == "--no-progress") {
       args.sim.progress = false;
+      continue;
+    }
+    if (a == "--algebraic-error-test") {
+      args.sim.algebraicErrorTest = true;
       continue;
     }
     std::optional<double> *number = a == "--start"      ? &args.sim.start

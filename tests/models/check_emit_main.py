@@ -160,14 +160,14 @@ def params(ldaec, model, tmp):
               "%s exits %d before any work: %s" %
               (" ".join(args), code, bad.stderr.strip()[:120]))
 
-    # --stats and --integrator reach the runtime's options.
-    for integ in ("ida", "auto"):
-        args = grid + ["--integrator", integ, "--stats"]
-        prog = run([exe] + args)
+    # --stats, --integrator and --algebraic-error-test reach the runtime.
+    for extra in (["--integrator", "ida"],
+                  ["--integrator", "auto", "--algebraic-error-test"]):
+        prog = run([exe] + grid + extra + ["--stats"])
         check(prog.returncode == 0 and stat(prog.stderr, "steps") and
               len(rows(prog.stdout)) == 5,
-              "--integrator %s --stats: %s steps on stderr, 5 rows" %
-              (integ, stat(prog.stderr, "steps")))
+              "%s --stats: %s steps on stderr, 5 rows" %
+              (" ".join(extra), stat(prog.stderr, "steps")))
     out = os.path.join(tmp, "out.csv")
     prog = run([exe] + grid + ["-o", out])
     with open(out) as f:
