@@ -27,40 +27,6 @@ using ir::VarKey;
 
 bool useDenseJacobian(unsigned n) { return n <= LDAE_DENSE_THRESHOLD; }
 
-const char *cMathName(FuncKind f) {
-  switch (f) {
-  case FuncKind::Sin: return "sin";
-  case FuncKind::Cos: return "cos";
-  case FuncKind::Tan: return "tan";
-  case FuncKind::Asin: return "asin";
-  case FuncKind::Acos: return "acos";
-  case FuncKind::Atan: return "atan";
-  case FuncKind::Atan2: return "atan2";
-  case FuncKind::Sinh: return "sinh";
-  case FuncKind::Cosh: return "cosh";
-  case FuncKind::Tanh: return "tanh";
-  case FuncKind::Exp: return "exp";
-  case FuncKind::Log: return "log";
-  case FuncKind::Log10: return "log10";
-  case FuncKind::Sqrt: return "sqrt";
-  case FuncKind::Abs: return "fabs";
-  case FuncKind::Floor: return "floor";
-  case FuncKind::Ceil: return "ceil";
-  default: return nullptr;
-  }
-}
-
-std::vector<PowIntStep> powIntSteps(int32_t k) {
-  assert(k >= 1);
-  std::vector<PowIntStep> steps;
-  while (k) {
-    bool mul = k & 1;
-    k >>= 1;
-    steps.push_back({mul, k != 0});
-  }
-  return steps;
-}
-
 namespace {
 
 /// Where a variable key lives: y[index] or yp[index].

@@ -9,6 +9,8 @@
 #include "ir/DaeSystem.h"
 #include "support/Expected.h"
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -240,7 +242,15 @@ struct PowIntStep {
   bool multiplyResult; // result = result ? result * base : base
   bool squareBase;     // then base = base * base
 };
-std::vector<PowIntStep> powIntSteps(int32_t k);
+/// The steps of one exponent, in a fixed array (k < 2^31 takes at most 31):
+/// the interpreter follows it on every evaluation, without allocating.
+struct PowIntSchedule {
+  std::array<PowIntStep, 32> steps;
+  unsigned size = 0;
+  const PowIntStep *begin() const { return steps.data(); }
+  const PowIntStep *end() const { return steps.data() + size; }
+};
+PowIntSchedule powIntSteps(int32_t k);
 
 /// The C math library function computing built-in `f` ("sin", "fabs",
 /// "atan2"...), or null for those lowered inline (sign, min, max, mod).
@@ -248,5 +258,17 @@ const char *cMathName(ir::FuncKind f);
 
 /// The threshold rule shared with the runtime (LDAE_DENSE_THRESHOLD).
 bool useDenseJacobian(unsigned n);
+
+/// The exported symbol of plan function `fn`: "<symbolName>_<fn.name>".
+std::string functionSymbol(const CodePlan &plan, const PlanFunction &fn);
+
+/// Operations in the plan, loop and reduction bodies counted once: what
+/// compile time grows with.
+size_t planNodes(const CodePlan &plan);
+
+/// Operations one call of every plan function performs, loop and reduction
+/// bodies counted once per iteration: what the cost of an evaluation grows
+/// with (`--jit auto` decides by it).
+size_t planWork(const CodePlan &plan);
 
 } // namespace ldae::codegen

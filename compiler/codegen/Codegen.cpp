@@ -4,7 +4,7 @@
 
 #include "codegen/CEmitter.h"
 #include "codegen/Interpreter.h"
-#include "codegen/LlvmEmitter.h"
+#include "codegen/JitBackend.h"
 #include "codegen/ModelTables.h"
 
 namespace ldae::codegen {
@@ -23,8 +23,10 @@ PlanOptions planOptions(const CodegenOptions &opts) {
 
 class JitModel : public CompiledModel {
 public:
-  JitModel(const CodePlan &plan, std::unique_ptr<JitCode> code)
+  JitModel(const CodePlan &plan, std::unique_ptr<JitCode> code,
+           const BackendChoice &choice)
       : code_(std::move(code)), tables_(plan) {
+    backend_ = choice;
     tables_.setFunctions(plan, [&](int i) { return code_->address(i); });
   }
   const ldae_model &model() const override { return tables_.model(); }
@@ -36,8 +38,10 @@ private:
 
 class InterpretedModel : public CompiledModel {
 public:
-  explicit InterpretedModel(CodePlan plan)
-      : plan_(std::move(plan)), tables_(plan_) {}
+  InterpretedModel(CodePlan plan, const BackendChoice &choice)
+      : plan_(std::move(plan)), tables_(plan_) {
+    backend_ = choice;
+  }
   ~InterpretedModel() override {
     for (unsigned s : slots_)
       releaseInterpreterSlot(s);
@@ -71,17 +75,32 @@ Expected<std::unique_ptr<CompiledModel>> compile(const ir::DaeSystem &sys,
   auto plan = lowerToPlan(sys, planOptions(opts));
   if (!plan)
     return Error{plan.error()};
-  if (opts.jit) {
+  BackendChoice choice;
+  choice.automatic = !opts.jit.has_value();
+  choice.work = planWork(*plan);
+  choice.jit = opts.jit.value_or(choice.work > kAutoJitWork);
+  std::unique_ptr<CompiledModel> model;
+  if (choice.jit) {
     auto code = jitCompile(*plan);
     if (!code)
       return Error{code.error()};
-    return std::unique_ptr<CompiledModel>(
-        std::make_unique<JitModel>(*plan, std::move(*code)));
+    model = std::make_unique<JitModel>(*plan, std::move(*code), choice);
+  } else {
+    auto interpreted = std::make_unique<InterpretedModel>(std::move(*plan), choice);
+    if (auto ok = interpreted->bind(); !ok)
+      return Error{ok.error()};
+    model = std::move(interpreted);
   }
-  auto model = std::make_unique<InterpretedModel>(std::move(*plan));
-  if (auto ok = model->bind(); !ok)
-    return Error{ok.error()};
-  return std::unique_ptr<CompiledModel>(std::move(model));
+  return model;
+}
+
+std::string describeBackend(const BackendChoice &choice) {
+  std::string line = choice.jit ? "backend: LLVM JIT" : "backend: interpreter";
+  if (choice.automatic)
+    line += " (--jit auto: " + std::to_string(choice.work) +
+            " operations per evaluation, the JIT above " +
+            std::to_string(kAutoJitWork) + ")";
+  return line;
 }
 
 Expected<std::string> emitLlvm(const ir::DaeSystem &sys,

@@ -8,6 +8,7 @@
 #include "support/Expected.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace ldae {
@@ -16,9 +17,17 @@ class SourceManager;
 
 namespace ldae::codegen {
 
+/// `--jit auto` compiles with LLVM above this many operations per
+/// evaluation (planWork). Below it, loading LLVM and compiling costs more
+/// than the interpreter loses over a whole run; measured by
+/// bench/startup.py (docs/codegen.md, "Choosing the backend").
+constexpr size_t kAutoJitWork = 20000;
+
 struct CodegenOptions {
-  /// LLVM ORC JIT when true; the plan interpreter (`--jit off`) otherwise.
-  bool jit = true;
+  /// The backend (`--jit on|off|auto`): true the LLVM ORC JIT, false the
+  /// plan interpreter, unset the interpreter up to kAutoJitWork operations
+  /// per evaluation and the JIT above.
+  std::optional<bool> jit = true;
   /// Non-leaf operations per machine function (bounds compile time).
   unsigned chunkSize = 256;
   /// Compile repeated equations as loops (CodePlan.h, rollLoops).
@@ -27,11 +36,26 @@ struct CodegenOptions {
   const SourceManager *sources = nullptr;
 };
 
+/// The backend a model got, and why (`--stats`).
+struct BackendChoice {
+  bool jit = false;
+  bool automatic = false; // chosen by size (`--jit auto`)
+  size_t work = 0;        // planWork
+};
+
+/// One line for `--stats`: "backend: interpreter (--jit auto: 97
+/// operations per evaluation, the JIT above 20000)".
+std::string describeBackend(const BackendChoice &choice);
+
 /// Owns the compiled code and every array the ldae_model points into.
 class CompiledModel {
 public:
   virtual ~CompiledModel();
   virtual const ldae_model &model() const = 0;
+  const BackendChoice &backend() const { return backend_; }
+
+protected:
+  BackendChoice backend_;
 };
 
 /// Compiles `sys`; fails when the system breaks the layout rule (a variable
@@ -39,7 +63,8 @@ public:
 Expected<std::unique_ptr<CompiledModel>>
 compile(const ir::DaeSystem &sys, const CodegenOptions &opts = {});
 
-/// `--emit llvm`: the optimized LLVM module (or an error message).
+/// `--emit llvm`: the optimized LLVM module (or an error message); loads
+/// the JIT module (JitBackend.h).
 Expected<std::string> emitLlvm(const ir::DaeSystem &sys,
                                const CodegenOptions &opts = {});
 

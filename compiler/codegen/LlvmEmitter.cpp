@@ -4,6 +4,7 @@
 // does; functions over chunkSize nodes are split into non-inlined helpers
 // that pass values through a scratch array, so O2 and instruction selection
 // see bounded functions and compile time grows linearly with model size.
+// Built into the JIT module, libldae_jit.so (JitBackend.h).
 #include "codegen/LlvmEmitter.h"
 
 #include "llvm/ExecutionEngine/Orc/ExecutionUtils.h"
@@ -30,10 +31,6 @@ namespace ldae::codegen {
 
 using ir::CompareKind;
 using ir::FuncKind;
-
-std::string functionSymbol(const CodePlan &plan, const PlanFunction &fn) {
-  return plan.symbolName + "_" + fn.name;
-}
 
 namespace {
 
@@ -621,18 +618,6 @@ Error toError(llvm::Error e) { return Error{llvm::toString(std::move(e))}; }
 /// compile, still each shared node computed once (docs/codegen.md).
 constexpr size_t kFullOptimizationNodes = 5000;
 
-size_t planNodes(const CodePlan &plan) {
-  size_t n = 0;
-  for (const PlanFunction &fn : plan.functions) {
-    n += fn.nodes.size();
-    for (const PlanLoop &l : fn.loops)
-      n += l.body.nodes.size();
-    for (const PlanLoop &r : fn.reductions)
-      n += r.body.nodes.size();
-  }
-  return n;
-}
-
 bool fullOptimization(const CodePlan &plan) {
   return planNodes(plan) <= kFullOptimizationNodes;
 }
@@ -656,8 +641,6 @@ public:
 };
 
 } // namespace
-
-JitCode::~JitCode() = default;
 
 std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
                                          llvm::LLVMContext &ctx) {
@@ -685,7 +668,9 @@ void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full) {
   mpm.run(m, mam);
 }
 
-Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan) {
+namespace {
+
+Expected<std::unique_ptr<JitCode>> compileWithLljit(const CodePlan &plan) {
   initializeLlvm();
   auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
   if (!jtmb)
@@ -726,7 +711,7 @@ Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan) {
   return std::unique_ptr<JitCode>(std::move(code));
 }
 
-std::string printModule(const CodePlan &plan) {
+std::string printOptimizedModule(const CodePlan &plan) {
   initializeLlvm();
   llvm::LLVMContext ctx;
   std::unique_ptr<llvm::Module> m = emitModule(plan, ctx);
@@ -746,4 +731,23 @@ std::string printModule(const CodePlan &plan) {
   return text;
 }
 
+} // namespace
+
+const JitBackend &llvmBackend() {
+  static const JitBackend backend = [] {
+    JitBackend b;
+    b.compile = compileWithLljit;
+    b.print = printOptimizedModule;
+    return b;
+  }();
+  return backend;
+}
+
 } // namespace ldae::codegen
+
+/// The module's one exported symbol (kJitEntrySymbol); everything else in
+/// it is hidden, so its copies of the shared plan rules never interpose.
+extern "C" __attribute__((visibility("default"))) const ldae::codegen::JitBackend *
+ldae_jit_backend() {
+  return &ldae::codegen::llvmBackend();
+}

@@ -1,14 +1,11 @@
 // LLVM IR emission from a code plan, the O2 pipeline, and the ORC LLJIT
-// backend that turns the plan into machine code behind the C ABI.
+// backend that turns the plan into machine code behind the C ABI. Compiled
+// into the JIT module only (JitBackend.h): nothing else links LLVM.
 #pragma once
 
-#include "codegen/CodePlan.h"
-#include "support/Expected.h"
+#include "codegen/JitBackend.h"
 
-#include <cstdint>
 #include <memory>
-#include <string>
-#include <vector>
 
 namespace llvm {
 class LLVMContext;
@@ -18,9 +15,6 @@ class TargetMachine;
 
 namespace ldae::codegen {
 
-/// The exported symbol of plan function `fn`: "<symbolName>_<fn.name>".
-std::string functionSymbol(const CodePlan &plan, const PlanFunction &fn);
-
 /// A module defining every plan function with its C ABI signature (chunks
 /// as internal, non-inlined helpers).
 std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
@@ -29,18 +23,7 @@ std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
 /// Runs the standard O2 pipeline for `tm` on `m`.
 void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full = true);
 
-/// Code compiled by the JIT, alive as long as this object.
-class JitCode {
-public:
-  virtual ~JitCode();
-  /// Address of plan function i.
-  virtual uintptr_t address(int i) const = 0;
-};
-
-/// Emits, optimizes and JIT-compiles every function of `plan`.
-Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan);
-
-/// The optimized module of `plan` as LLVM assembly text (`--emit llvm`).
-std::string printModule(const CodePlan &plan);
+/// The backend's table (what the module's kJitEntrySymbol returns).
+const JitBackend &llvmBackend();
 
 } // namespace ldae::codegen

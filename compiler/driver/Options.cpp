@@ -1,5 +1,6 @@
 #include "Options.h"
 
+#include "codegen/Codegen.h"
 #include "passes/Pipeline.h"
 
 #include <CLI/CLI.hpp>
@@ -60,8 +61,13 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_option("--plot", o.plotFile, "plot the outputs to .svg or .png");
   app.add_flag("--stats", o.stats, "print solver statistics");
   app.add_flag("--no-progress", o.noProgress, "never show a progress bar");
-  app.add_option("--jit", o.jit, "on: LLVM JIT; off: the interpreter")
-      ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--jit", o.jit,
+                 "on: compile with the LLVM JIT; off: run the plan "
+                 "interpreter (no LLVM loaded); auto (default): the "
+                 "interpreter for small models, the JIT above " +
+                     std::to_string(codegen::kAutoJitWork) +
+                     " operations per evaluation (docs/codegen.md)")
+      ->check(CLI::IsMember({"on", "off", "auto"}));
 
   app.add_flag("--time-passes", o.timePasses, "time every stage and pass");
   app.add_flag("--compile-only", o.compileOnly,

@@ -32,7 +32,7 @@ struct Options {
   bool everyStep = false;                 // --every-step
   std::vector<double> outputTimes;        // --output-times 0.4,4,40
   bool algebraicErrorTest = false;        // --algebraic-error-test
-  std::string jit = "on";                 // --jit on|off
+  std::string jit = "auto";               // --jit on|off|auto
   bool timePasses = false;                // --time-passes
   bool compileOnly = false;               // --compile-only
   std::vector<std::string> printAfter;    // --print-after PASS

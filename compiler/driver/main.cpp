@@ -142,7 +142,10 @@ static int run(int argc, char **argv) {
 
   // 4. Code generation: LLVM JIT (or the interpreter), or text.
   codegen::CodegenOptions cgOpts;
-  cgOpts.jit = opts.jit == "on";
+  if (opts.jit == "auto")
+    cgOpts.jit.reset(); // by the size of the model
+  else
+    cgOpts.jit = opts.jit == "on";
   cgOpts.sources = &sources;
   if (opts.emit == "llvm" || opts.emit == "c") {
     Expected<std::string> text =
@@ -222,6 +225,7 @@ static int run(int argc, char **argv) {
   }
   if (opts.stats) {
     std::cerr << "compile time: " << compileSeconds << " s\n";
+    std::cerr << codegen::describeBackend((*compiled)->backend()) << "\n";
     runtime::printStats(result->stats, std::cerr);
   }
   return rc;
