@@ -18,7 +18,6 @@ Standard library only.
 """
 import argparse
 import os
-import re
 import subprocess
 import sys
 import time
@@ -30,14 +29,7 @@ STATES = os.path.join(HERE, "rc_circuit_states.lsd")
 DOC = os.path.join(ROOT, "docs", "benchmarks.md")
 sys.path.insert(0, HERE)
 from benchdoc import write_section  # noqa: E402
-
-
-def stat(stderr, name):
-    m = re.search(r"^%s\s+([0-9.eE+-]+)" % re.escape(name), stderr, re.M)
-    if not m:
-        raise RuntimeError("no '%s' in --stats output:\n%s" %
-                           (name, stderr[-2000:]))
-    return float(m.group(1))
+from benchrun import stat  # noqa: E402
 
 
 def simulate(ldaec, model, n, extra, repeat):
