@@ -46,11 +46,11 @@ from benchdoc import write_section  # noqa: E402
 SWEEP = [("pendulum", "examples/pendulum.lsd", [])] + \
     [("Robertson", "tests/models/robertson_sundials.lsd", [])] + \
     [("RC ladder N=%d" % n, "examples/rc_ladder.lsd", ["N=%d" % n])
-     for n in (10, 30, 100, 300, 1000)] + \
+     for n in (10, 30, 100, 200, 300, 1000)] + \
     [("SciML RC N=%d" % n, "tests/models/rc_circuit_sciml.lsd", ["N=%d" % n])
      for n in (10, 30, 100, 300)] + \
     [("cascaded N=%d" % n, "tests/models/cascaded_first_order.lsd",
-      ["N=%d" % n]) for n in (10, 100, 1000, 3000)]
+      ["N=%d" % n]) for n in (10, 100, 1000, 2000, 3000)]
 
 
 def run_once(cmd, env=None):
