@@ -54,7 +54,7 @@ def number(text, label):
 def robertson(ldaec, reps=20):
     args = [os.path.join(ROOT, "tests", "models", "robertson_sundials.lsd"),
             "--simulate", "--rtol", "1e-4", "--atol", "1e-6",
-            "--algebraic-error-test", "--output-times", ROBERTSON_TIMES,
+            "--algebraic-error-test", "on", "--output-times", ROBERTSON_TIMES,
             "--stats", "-o", os.devnull]
     integ, comp, steps = [], [], 0
     for _ in range(reps):

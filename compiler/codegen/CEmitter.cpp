@@ -479,7 +479,8 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << "  " << plan.initRowind.size() << ", " << s << "_init_colptr, " << s
      << "_init_rowind, " << fnRef(plan.initJacobianCsc) << ",\n"
      << "  " << (plan.outputOrigin.empty() ? "0" : s + "_output_origin")
-     << ",\n  " << (plan.explicitOde ? 1 : 0) << "\n};\n\n"
+     << ",\n  " << (plan.explicitOde ? 1 : 0) << ", "
+     << (plan.algebraicErrorTest ? 1 : 0) << "\n};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
   if (withMain) {

@@ -655,6 +655,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   for (const ir::SystemOutput &o : sys.outputs)
     plan.outputNames.push_back(o.name);
   plan.explicitOde = sys.explicitOde;
+  plan.algebraicErrorTest = sys.index <= 1;
 
   const unsigned nParams = plan.paramValues.size();
   ir::Differentiator diff(*sys.ctx);

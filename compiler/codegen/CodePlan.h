@@ -175,6 +175,7 @@ struct CodePlan {
   std::vector<std::string> varNames, paramNames, outputNames, residualOrigin;
   std::vector<std::string> outputOrigin; // empty, or one per output
   bool explicitOde = false; // ldae_model::explicit_ode
+  bool algebraicErrorTest = true; // ldae_model::algebraic_error_test
   std::vector<double> startY, startYp, nominal, paramValues;
   std::vector<int> fixed;
   double startTime, stopTime, tolerance, interval; // NaN when unset

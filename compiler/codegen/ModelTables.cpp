@@ -61,6 +61,7 @@ ModelTables::ModelTables(const CodePlan &plan) {
   m.output_origin =
       plan.outputOrigin.empty() ? nullptr : names(plan.outputOrigin);
   m.explicit_ode = plan.explicitOde ? 1 : 0;
+  m.algebraic_error_test = plan.algebraicErrorTest ? 1 : 0;
   m.start_time = plan.startTime;
   m.stop_time = plan.stopTime;
   m.tolerance = plan.tolerance;

@@ -40,9 +40,18 @@ void defineOptions(CLI::App &app, Options &o) {
                  "interval grid; the last is the default stop time: "
                  "--output-times 0.4,4,40")
       ->delimiter(',');
-  app.add_flag("--algebraic-error-test", o.algebraicErrorTest,
-               "keep algebraic unknowns in the solver's error test (small "
-               "algebraic values get relative accuracy of their own)");
+  app.add_option("--algebraic-error-test", o.algebraicErrorTest,
+                 "on: algebraic unknowns in IDA's local error test; off: "
+                 "left out; auto (default): on for index-1 systems (every "
+                 "reduced one), off for a higher-index system as written "
+                 "(--method raw)")
+      ->check(CLI::IsMember({"on", "off", "auto"}));
+  app.add_option("--integrator", o.integrator,
+                 "auto (default): CVODE (BDF) for an explicit ODE, IDA "
+                 "otherwise; ida; cvode (BDF) or cvode-bdf; cvode-adams "
+                 "(non-stiff); CVODE needs the ODE form (--analyze shows it)")
+      ->check(CLI::IsMember({"auto", "ida", "cvode", "cvode-bdf",
+                             "cvode-adams"}));
   // Checked against the spellings first, so the conversion cannot fail.
   app.add_option_function<std::string>(
          "--method",

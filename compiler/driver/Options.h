@@ -31,7 +31,8 @@ struct Options {
   bool stats = false;                     // --stats
   bool everyStep = false;                 // --every-step
   std::vector<double> outputTimes;        // --output-times 0.4,4,40
-  bool algebraicErrorTest = false;        // --algebraic-error-test
+  std::string algebraicErrorTest = "auto";// --algebraic-error-test on|off|auto
+  std::string integrator = "auto";        // --integrator
   std::string jit = "auto";               // --jit on|off|auto
   bool timePasses = false;                // --time-passes
   bool compileOnly = false;               // --compile-only

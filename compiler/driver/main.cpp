@@ -191,8 +191,14 @@ static int run(int argc, char **argv) {
   simOpts.times = opts.outputTimes;
   if (!opts.stopTime && !opts.outputTimes.empty())
     simOpts.stop = opts.outputTimes.back(); // explicit times end the run
-  if (opts.algebraicErrorTest)
-    simOpts.algebraicErrorTest = true;
+  if (opts.algebraicErrorTest != "auto")
+    simOpts.algebraicErrorTest = opts.algebraicErrorTest == "on";
+  simOpts.integrator = opts.integrator == "ida" ? runtime::IntegratorChoice::Ida
+                       : opts.integrator == "cvode-adams"
+                           ? runtime::IntegratorChoice::CvodeAdams
+                       : opts.integrator == "auto"
+                           ? runtime::IntegratorChoice::Auto
+                           : runtime::IntegratorChoice::CvodeBdf;
   simOpts.outputs = passOpts.outputs;
   if (simOpts.outputs.empty()) {
     // By default the model's own variables; derivatives only when asked.

@@ -79,6 +79,9 @@ struct DaeSystem {
   /// Row i of the only state set is der(unknown i) - f_i(t, y) (the causal
   /// form "ODE"; ldae_model::explicit_ode).
   bool explicitOde = false;
+  /// The differential index of the system as handed to the integrator: 1
+  /// when reduced, the model's own under `--method raw`.
+  int index = 1;
 };
 
 /// Whether slot i of state set `set` is differential (a set without its

@@ -150,6 +150,7 @@ bool PantelidesPass::runOn(PassContext &pc, const MatchingResult &mr,
       row.next = -1;
     s.highest = mr.originalOrder;
     s.maxTimes = 0;
+    s.handedIndex = pc.report.structuralIndex.value_or(1);
   }
   return true;
 }

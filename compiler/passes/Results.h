@@ -52,6 +52,9 @@ struct IndexReduction {
   std::vector<Row> rows;
   std::vector<int> highest; // highest order of each unknown
   int maxTimes = 0;         // most differentiations of one equation
+  /// The index of the rows handed on: 1 when reduced, the structural index
+  /// of the model as written otherwise (`--method raw`).
+  int handedIndex = 1;
 };
 
 /// A choice of dummy derivatives: for each unknown (index into

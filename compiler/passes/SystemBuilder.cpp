@@ -74,6 +74,7 @@ bool BuildSystemPass::runOn(PassContext &pc, const AliasResult &alias,
   ir::DaeSystem sys;
   sys.ctx = m.sharedCtx();
   sys.model = &m;
+  sys.index = red.handedIndex;
 
   VarSubstitution subst(ctx);
   auto set = [&](ir::ExprRef from, ir::ExprRef to) {

@@ -1,4 +1,4 @@
-// Failure messages for IDA's error returns (see FailureReport.h).
+// Failure messages for the integrators' error returns (see FailureReport.h).
 #include "FailureReport.h"
 #include "ConsistentInit.h"
 #include "numeric/Rank.h"
@@ -7,72 +7,58 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <fstream>
-#include <ida/ida.h>
 #include <numeric>
 
 namespace ldae::runtime {
 
 namespace {
 
-struct FlagInfo {
-  const char *name;
+struct FailureText {
   const char *what;
   const char *hint;
 };
 
-FlagInfo flagInfo(int flag) {
-  switch (flag) {
-  case IDA_TOO_MUCH_WORK:
-    return {"IDA_TOO_MUCH_WORK",
-            "too many steps without reaching the output "
-            "time",
+FailureText failureText(FailureKind kind) {
+  switch (kind) {
+  case FailureKind::TooMuchWork:
+    return {"too many steps without reaching the output time",
             "the model may be stiff or oscillate fast; loosen --rtol or "
             "shorten --stop"};
-  case IDA_TOO_MUCH_ACC:
-    return {"IDA_TOO_MUCH_ACC", "the requested accuracy cannot be reached",
+  case FailureKind::TooMuchAccuracy:
+    return {"the requested accuracy cannot be reached",
             "loosen --rtol and --atol"};
-  case IDA_ERR_FAIL:
-    return {"IDA_ERR_FAIL",
-            "the error test failed repeatedly with the "
-            "smallest step",
+  case FailureKind::ErrorTest:
+    return {"the error test failed repeatedly with the smallest step",
             "tighten or loosen --rtol; the model may be high index (try "
             "--method dd) or have a discontinuity"};
-  case IDA_CONV_FAIL:
-    return {"IDA_CONV_FAIL",
-            "the Newton iteration failed to converge "
-            "repeatedly",
+  case FailureKind::Convergence:
+    return {"the Newton iteration failed to converge repeatedly",
             "the model may be high index (try --method dd); check the start "
             "values; tighten --rtol"};
-  case IDA_LSETUP_FAIL:
-    return {"IDA_LSETUP_FAIL", "the iteration matrix is singular",
+  case FailureKind::LinearSetup:
+    return {"the iteration matrix is singular",
             "the model may be high index; try --method dd"};
-  case IDA_LSOLVE_FAIL:
-    return {"IDA_LSOLVE_FAIL", "the linear solve failed",
+  case FailureKind::LinearSolve:
+    return {"the linear solve failed",
             "the model may be high index; try --method dd"};
-  case IDA_RES_FAIL:
-  case IDA_REP_RES_ERR:
-    return {flag == IDA_RES_FAIL ? "IDA_RES_FAIL" : "IDA_REP_RES_ERR",
-            "an equation left its domain (e.g. sqrt or log of a negative "
+  case FailureKind::Domain:
+    return {"an equation left its domain (e.g. sqrt or log of a negative "
             "number) and smaller steps did not help",
             "check the start values and parameters; the solution may really "
             "leave the domain here"};
-  case IDA_RTFUNC_FAIL:
-    return {"IDA_RTFUNC_FAIL", "an event condition could not be evaluated",
+  case FailureKind::RootFunction:
+    return {"an event condition could not be evaluated",
             "check the event conditions"};
-  case IDA_NO_RECOVERY:
-  case IDA_LINESEARCH_FAIL:
-  case IDA_FIRST_RES_FAIL:
-    return {flag == IDA_NO_RECOVERY       ? "IDA_NO_RECOVERY"
-            : flag == IDA_LINESEARCH_FAIL ? "IDA_LINESEARCH_FAIL"
-                                          : "IDA_FIRST_RES_FAIL",
-            "no consistent initial point was found", "check the start values"};
-  case kStepCollapsed:
-    return {"step size collapse", "the step size fell to round-off level",
+  case FailureKind::NoStart:
+    return {"no consistent initial point was found", "check the start values"};
+  case FailureKind::StepCollapsed:
+    return {"the step size fell to round-off level",
             "the solution may leave an equation's domain or have a "
             "singularity here; check the start values and parameters"};
-  default:
-    return {"IDA error", "the integrator stopped", "tighten or loosen --rtol"};
+  case FailureKind::Other:
+    break;
   }
+  return {"the integrator stopped", "tighten or loosen --rtol"};
 }
 
 /// The (at most three) indices of the largest |u_i|, those above a tenth
@@ -96,9 +82,9 @@ std::vector<int> dominantRows(const Eigen::VectorXd &u) {
 /// condition estimate says singular, a few steps of inverse iteration with
 /// J^T approximate the left singular vector of the smallest singular value.
 std::vector<int> singularRowsSparse(const ModelEval &ev,
-                                    const IdaIntegrator &ida, double t) {
+                                    const Integrator &ida, double t) {
   CscMatrix J;
-  if (ev.jacobianCsc(ida.set(), t, ida.y(), ida.yp(), ida.currentCj(), J) !=
+  if (ev.jacobianCsc(ida.set(), t, ida.y(), ida.yp(), ida.iterationCj(), J) !=
       0)
     return {};
   CscMatrix Jt = J.transposed();
@@ -120,12 +106,12 @@ std::vector<int> singularRowsSparse(const ModelEval &ev,
 
 /// The rows a (near) singular iteration matrix singles out: the largest
 /// components of the left singular vector of its smallest singular value.
-std::vector<int> singularRows(const ModelEval &ev, const IdaIntegrator &ida,
+std::vector<int> singularRows(const ModelEval &ev, const Integrator &ida,
                               double t) {
   if (usesSparseInit(ev))
     return singularRowsSparse(ev, ida, t);
   Eigen::MatrixXd J;
-  double cj = ida.currentCj();
+  double cj = ida.iterationCj();
   if (ev.jacobian(ida.set(), t, ida.y(), ida.yp(), cj, J) != 0 || J.size() == 0)
     return {};
   Eigen::VectorXd u;
@@ -190,7 +176,7 @@ std::vector<int> unknownsRead(const ModelEval &ev, int set, int row) {
 /// list would hide the message.
 constexpr size_t kMaxValuesListed = 8;
 
-std::string worstVariables(const ModelEval &ev, const IdaIntegrator &ida) {
+std::string worstVariables(const ModelEval &ev, const Integrator &ida) {
   std::vector<double> err = ida.weightedErrors();
   std::vector<int> order(err.size());
   std::iota(order.begin(), order.end(), 0);
@@ -314,38 +300,37 @@ std::string describeSolverError(double t, const std::string &what) {
                      t, what);
 }
 
-std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
-                            int flag, double t) {
-  FlagInfo info = flagInfo(flag);
+std::string describeFailure(const ModelEval &ev, const Integrator &ida,
+                            const StepStatus &status, double t) {
+  FailureText text = failureText(status.failure);
   std::string msg = fmt::format("simulation failed at t = {:.10g}: {} ({})", t,
-                                info.what, info.name);
+                                text.what, status.code);
   std::string worst = worstVariables(ev, ida);
   if (!worst.empty())
     msg += "\n  largest local errors: " + worst;
-  if ((flag == IDA_RES_FAIL || flag == IDA_REP_RES_ERR ||
-       flag == IDA_CONV_FAIL || flag == kStepCollapsed) &&
+  FailureKind k = status.failure;
+  if ((k == FailureKind::Domain || k == FailureKind::Convergence ||
+       k == FailureKind::StepCollapsed) &&
       ida.lastDomainRow() >= 0)
     msg += describeDomainRow(ev, ida.set(), ida.lastDomainRow(),
                              ida.lastDomainY(), t, nullptr);
-  else if (flag == IDA_LSETUP_FAIL || flag == IDA_CONV_FAIL ||
-           flag == IDA_LSOLVE_FAIL)
+  else if (k == FailureKind::LinearSetup || k == FailureKind::Convergence ||
+           k == FailureKind::LinearSolve)
     for (int r : singularRows(ev, ida, t))
       msg += describeDomainRow(ev, ida.set(), r, ida.y(), t, ida.yp());
-  msg += fmt::format("\n  hint: {}", info.hint);
+  msg += fmt::format("\n  hint: {}", text.hint);
   return msg;
 }
 
-std::string describeInitFailure(const ModelEval &ev, const IdaIntegrator &ida,
-                                int flag, double t) {
-  std::string msg = fmt::format(
-      "initialization failed at t = {:.10g}: no consistent initial point "
-      "found (IDACalcIC: {})",
-      t, flagInfo(flag).name);
+std::string describeInitFailure(const ModelEval &ev, const Integrator &ida,
+                                const StepStatus &status, double t) {
   if (ida.lastDomainRow() >= 0)
     return describeInitDomainError(ev, ida.set(), ida.lastDomainRow(),
                                    ida.lastDomainY(), t);
-  msg += "\n  hint: check the start values";
-  return msg;
+  return fmt::format("initialization failed at t = {:.10g}: no consistent "
+                     "initial point found ({})\n  hint: check the start "
+                     "values",
+                     t, status.code);
 }
 
 } // namespace ldae::runtime

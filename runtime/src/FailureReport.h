@@ -1,19 +1,14 @@
-// The message a user sees when IDA gives up: the time, what failed, the
+// The message a user sees when the integrator gives up: the time, what failed, the
 // variables with the largest weighted local error, the equation behind it
 // (the row of a domain error, or the rows a singular iteration matrix
 // singles out), and a hint at what to try.
 #pragma once
 
-#include "IdaIntegrator.h"
+#include "Integrator.h"
 
 #include <string>
 
 namespace ldae::runtime {
-
-/// Our own failure code (beside IDA's): the step size collapsed to
-/// round-off level while IDA kept succeeding (e.g. creeping towards a
-/// domain boundary).
-inline constexpr int kStepCollapsed = -1000;
 
 /// The report of a domain error (sqrt or log of a negative number...) in
 /// residual row `row` of state set `set` at the unknowns `y` (may be null):
@@ -38,16 +33,16 @@ std::string describeOutputDomainError(const ModelEval &ev, int output,
                                       const double *y);
 
 /// Describes a SUNDIALS set-up call that failed at time `t` with
-/// `what` (e.g. IDAReInit after a state switch): a numerical failure of
+/// `what` (e.g. a re-initialization after a state switch): a numerical failure of
 /// the run like the others, with the time and a hint.
 std::string describeSolverError(double t, const std::string &what);
 
-/// Describes the failure of IDASolve with `flag` (< 0) at time `t`.
-std::string describeFailure(const ModelEval &ev, const IdaIntegrator &ida,
-                            int flag, double t);
+/// Describes a failed step (`status`) at time `t`.
+std::string describeFailure(const ModelEval &ev, const Integrator &ida,
+                            const StepStatus &status, double t);
 
-/// Describes a failed IDACalcIC (`flag` < 0) at the start time `t`.
-std::string describeInitFailure(const ModelEval &ev, const IdaIntegrator &ida,
-                                int flag, double t);
+/// Describes a failed start completion (IDACalcIC) at the start time `t`.
+std::string describeInitFailure(const ModelEval &ev, const Integrator &ida,
+                                const StepStatus &status, double t);
 
 } // namespace ldae::runtime

@@ -2,6 +2,7 @@
 // SUNDIALS return value is checked; IDA's own error printing is replaced by
 // a handler that keeps the last message for our failure report.
 #include "IdaIntegrator.h"
+#include "SundialsSupport.h"
 
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
@@ -17,21 +18,13 @@ namespace ldae::runtime {
 
 namespace {
 
-using Data = IdaIntegrator::CallbackData;
+using Data = Integrator::CallbackData;
 
 int residualFn(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void *user) {
   auto *d = static_cast<Data *>(user);
   int rc = d->ev->residual(d->set, t, N_VGetArrayPointer(y),
                            N_VGetArrayPointer(yp), N_VGetArrayPointer(r));
-  if (rc > 0) {
-    // A domain error: recoverable, IDA retries with a smaller step. Remember
-    // the row so the failure message can name the equation.
-    d->domainRow = rc - 1;
-    const double *py = N_VGetArrayPointer(y);
-    d->domainY.assign(py, py + d->ev->n());
-    return 1;
-  }
-  return rc < 0 ? -1 : 0;
+  return Integrator::callbackStatus(*d, rc, N_VGetArrayPointer(y));
 }
 
 int denseJacFn(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp,
@@ -51,12 +44,7 @@ int sparseJacFn(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp,
   auto *d = static_cast<Data *>(user);
   const ldae_state_set &s = d->ev->set(d->set);
   int n = d->ev->n();
-  sunindextype *colptr = SUNSparseMatrix_IndexPointers(J);
-  sunindextype *rowind = SUNSparseMatrix_IndexValues(J);
-  for (int c = 0; c <= n; ++c)
-    colptr[c] = s.jac_colptr[c];
-  for (int q = 0; q < s.jac_nnz; ++q)
-    rowind[q] = s.jac_rowind[q];
+  sundials::copyPattern(J, s, n);
   int rc = s.jacobian_csc(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp),
                           d->ev->params(), cj, SUNSparseMatrix_Data(J));
   return rc > 0 ? 1 : (rc < 0 ? -1 : 0);
@@ -70,15 +58,37 @@ int rootFn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *user) {
   return rc == 0 ? 0 : -1;
 }
 
-void errHandler(int code, const char *module, const char *function, char *msg,
-                void *user) {
-  auto *d = static_cast<Data *>(user);
-  d->idaMessage = fmt::format("{} ({}): {}", function, code, msg);
-}
-
-Error sundialsError(const char *call, int flag) {
-  return Error{
-      fmt::format("internal error: {} failed with flag {}", call, flag)};
+/// IDA's failure returns in the failure report's terms.
+StepStatus failure(int flag) {
+  switch (flag) {
+  case IDA_TOO_MUCH_WORK:
+    return StepStatus::failed(FailureKind::TooMuchWork, "IDA_TOO_MUCH_WORK");
+  case IDA_TOO_MUCH_ACC:
+    return StepStatus::failed(FailureKind::TooMuchAccuracy, "IDA_TOO_MUCH_ACC");
+  case IDA_ERR_FAIL:
+    return StepStatus::failed(FailureKind::ErrorTest, "IDA_ERR_FAIL");
+  case IDA_CONV_FAIL:
+    return StepStatus::failed(FailureKind::Convergence, "IDA_CONV_FAIL");
+  case IDA_LSETUP_FAIL:
+    return StepStatus::failed(FailureKind::LinearSetup, "IDA_LSETUP_FAIL");
+  case IDA_LSOLVE_FAIL:
+    return StepStatus::failed(FailureKind::LinearSolve, "IDA_LSOLVE_FAIL");
+  case IDA_RES_FAIL:
+    return StepStatus::failed(FailureKind::Domain, "IDA_RES_FAIL");
+  case IDA_REP_RES_ERR:
+    return StepStatus::failed(FailureKind::Domain, "IDA_REP_RES_ERR");
+  case IDA_RTFUNC_FAIL:
+    return StepStatus::failed(FailureKind::RootFunction, "IDA_RTFUNC_FAIL");
+  case IDA_NO_RECOVERY:
+    return StepStatus::failed(FailureKind::NoStart, "IDA_NO_RECOVERY");
+  case IDA_LINESEARCH_FAIL:
+    return StepStatus::failed(FailureKind::NoStart, "IDA_LINESEARCH_FAIL");
+  case IDA_FIRST_RES_FAIL:
+    return StepStatus::failed(FailureKind::NoStart, "IDA_FIRST_RES_FAIL");
+  default:
+    return StepStatus::failed(FailureKind::Other,
+                              fmt::format("IDA flag {}", flag));
+  }
 }
 
 } // namespace
@@ -114,27 +124,20 @@ struct IdaIntegrator::Impl {
 };
 
 IdaIntegrator::IdaIntegrator(const ModelEval &ev)
-    : ev_(ev), impl_(std::make_unique<Impl>()) {
-  data_.ev = &ev;
+    : Integrator(ev), impl_(std::make_unique<Impl>()) {
+  shared_.ev = &ev;
 }
 
 IdaIntegrator::~IdaIntegrator() = default;
 
-#define LDAE_CHECK(call)                                                       \
-  do {                                                                         \
-    int flag_ = (call);                                                        \
-    if (flag_ < 0)                                                             \
-      return sundialsError(#call, flag_);                                      \
-  } while (0)
-
 Expected<bool> IdaIntegrator::init(int set, double t0, const double *y,
                                    const double *yp, double rtol,
                                    const std::vector<double> &atol,
-                                   double tstop, bool suppressAlg) {
+                                   double tstop, bool errorTestAlgebraic) {
   Impl &I = *impl_;
   int n = ev_.n();
-  data_.set = set;
-  LDAE_CHECK(SUNContext_Create(nullptr, &I.ctx));
+  shared_.set = set;
+  LDAE_SUNDIALS_CHECK(SUNContext_Create(nullptr, &I.ctx));
   I.y = N_VNew_Serial(n, I.ctx);
   I.yp = N_VNew_Serial(n, I.ctx);
   I.id = N_VNew_Serial(n, I.ctx);
@@ -148,43 +151,43 @@ Expected<bool> IdaIntegrator::init(int set, double t0, const double *y,
   I.mem = IDACreate(I.ctx);
   if (!I.mem)
     return Error{"internal error: IDACreate failed"};
-  LDAE_CHECK(IDASetErrHandlerFn(I.mem, errHandler, &data_));
-  LDAE_CHECK(IDAInit(I.mem, residualFn, t0, I.y, I.yp));
-  LDAE_CHECK(IDASetUserData(I.mem, &data_));
-  LDAE_CHECK(IDASVtolerances(I.mem, rtol, I.atol));
+  LDAE_SUNDIALS_CHECK(IDASetErrHandlerFn(I.mem, sundials::keepMessage, &shared_));
+  LDAE_SUNDIALS_CHECK(IDAInit(I.mem, residualFn, t0, I.y, I.yp));
+  LDAE_SUNDIALS_CHECK(IDASetUserData(I.mem, &shared_));
+  LDAE_SUNDIALS_CHECK(IDASVtolerances(I.mem, rtol, I.atol));
   I.tstop = tstop;
-  LDAE_CHECK(IDASetStopTime(I.mem, tstop));
+  LDAE_SUNDIALS_CHECK(IDASetStopTime(I.mem, tstop));
   const ldae_model &m = ev_.model();
   if (m.n_roots > 0 && m.roots)
-    LDAE_CHECK(IDARootInit(I.mem, m.n_roots, rootFn));
+    LDAE_SUNDIALS_CHECK(IDARootInit(I.mem, m.n_roots, rootFn));
   auto ok = setupId();
   if (!ok)
     return ok;
-  // Index-1 theory: the algebraic components are functions of the
-  // differential ones, so their error follows; testing them only forces
-  // needlessly small steps (and fails outright for dummy derivatives).
-  LDAE_CHECK(IDASetSuppressAlg(I.mem, suppressAlg ? SUNTRUE : SUNFALSE));
+  // Which unknowns the error test may leave out is the run's decision
+  // (docs/runtime.md, "The error test").
+  LDAE_SUNDIALS_CHECK(
+      IDASetSuppressAlg(I.mem, errorTestAlgebraic ? SUNFALSE : SUNTRUE));
   return setupLinearSolver();
 }
 
 Expected<bool> IdaIntegrator::setupId() {
-  const ldae_state_set &s = ev_.set(data_.set);
+  const ldae_state_set &s = ev_.set(shared_.set);
   double *id = N_VGetArrayPointer(impl_->id);
   for (int i = 0; i < ev_.n(); ++i)
     id[i] = s.is_differential[i] ? 1.0 : 0.0;
-  LDAE_CHECK(IDASetId(impl_->mem, impl_->id));
+  LDAE_SUNDIALS_CHECK(IDASetId(impl_->mem, impl_->id));
   return true;
 }
 
 Expected<bool> IdaIntegrator::setupLinearSolver() {
   Impl &I = *impl_;
-  const ldae_state_set &s = ev_.set(data_.set);
+  const ldae_state_set &s = ev_.set(shared_.set);
   int n = ev_.n();
   bool sparse = n > LDAE_DENSE_THRESHOLD && s.jacobian_csc && s.jac_colptr;
   if (I.LS && !sparse && !sparse_) {
     // Dense to dense: the matrix and solver stay; only the Jacobian source
     // changes (IDA's difference quotients when the set has none).
-    LDAE_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
+    LDAE_SUNDIALS_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
     return true;
   }
   // A new matrix (the sparse pattern may differ between sets): build the
@@ -204,16 +207,16 @@ Expected<bool> IdaIntegrator::setupLinearSolver() {
   if (flag < 0) {
     SUNLinSolFree(LS);
     SUNMatDestroy(A);
-    return sundialsError("IDASetLinearSolver", flag);
+    return sundials::callError("IDASetLinearSolver", flag);
   }
   I.freeSolver();
   I.A = A;
   I.LS = LS;
   sparse_ = sparse;
   if (sparse)
-    LDAE_CHECK(IDASetJacFn(I.mem, sparseJacFn));
+    LDAE_SUNDIALS_CHECK(IDASetJacFn(I.mem, sparseJacFn));
   else
-    LDAE_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
+    LDAE_SUNDIALS_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
   return true;
 }
 
@@ -247,10 +250,10 @@ Expected<bool> IdaIntegrator::reinit(int set, double t, const double *y,
   int n = ev_.n();
   std::copy(y, y + n, N_VGetArrayPointer(I.y));
   std::copy(yp, yp + n, N_VGetArrayPointer(I.yp));
-  int oldSet = data_.set;
-  data_.set = set;
-  LDAE_CHECK(IDAReInit(I.mem, t, I.y, I.yp));
-  LDAE_CHECK(IDASetStopTime(I.mem, I.tstop));
+  int oldSet = shared_.set;
+  shared_.set = set;
+  LDAE_SUNDIALS_CHECK(IDAReInit(I.mem, t, I.y, I.yp));
+  LDAE_SUNDIALS_CHECK(IDASetStopTime(I.mem, I.tstop));
   auto ok = setupId();
   if (!ok)
     return ok;
@@ -259,34 +262,41 @@ Expected<bool> IdaIntegrator::reinit(int set, double t, const double *y,
   return true;
 }
 
-int IdaIntegrator::calcIC(double tout1) {
+StepStatus IdaIntegrator::completeStart(double tout1) {
   Impl &I = *impl_;
   int flag = IDACalcIC(I.mem, IDA_YA_YDP_INIT, tout1);
-  if (flag < 0)
-    return flag;
-  int g = IDAGetConsistentIC(I.mem, I.y, I.yp);
-  return g < 0 ? g : flag;
+  if (flag >= 0)
+    flag = IDAGetConsistentIC(I.mem, I.y, I.yp);
+  return flag < 0 ? failure(flag) : StepStatus{};
 }
 
 Expected<bool> IdaIntegrator::setStopTime(double tstop) {
   impl_->tstop = tstop;
-  LDAE_CHECK(IDASetStopTime(impl_->mem, tstop));
+  LDAE_SUNDIALS_CHECK(IDASetStopTime(impl_->mem, tstop));
   return true;
 }
 
-int IdaIntegrator::step(double &tret) {
+StepStatus IdaIntegrator::step(double &tret) {
   Impl &I = *impl_;
   int flag = IDASolve(I.mem, I.tstop, &tret, I.y, I.yp, IDA_ONE_STEP);
-  if (flag == IDA_ROOT_RETURN)
+  if (flag < 0)
+    return failure(flag);
+  if (flag == IDA_ROOT_RETURN) {
     ++I.rootCount;
-  return flag;
+    return {StepStatus::Root};
+  }
+  return {flag == IDA_TSTOP_RETURN ? StepStatus::StopReached
+                                   : StepStatus::Step};
 }
 
-Expected<bool> IdaIntegrator::dky(double t, int k, double *out) {
+Expected<bool> IdaIntegrator::interpolate(double t, double *y, double *yp) {
   Impl &I = *impl_;
-  LDAE_CHECK(IDAGetDky(I.mem, t, k, I.tmp));
-  const double *src = N_VGetArrayPointer(I.tmp);
-  std::copy(src, src + ev_.n(), out);
+  int n = ev_.n();
+  for (auto [k, out] : {std::pair{0, y}, {1, yp}}) {
+    LDAE_SUNDIALS_CHECK(IDAGetDky(I.mem, t, k, I.tmp));
+    const double *src = N_VGetArrayPointer(I.tmp);
+    std::copy(src, src + n, out);
+  }
   return true;
 }
 
@@ -296,49 +306,31 @@ const double *IdaIntegrator::yp() const {
 }
 
 std::vector<int> IdaIntegrator::rootsFound() const {
-  const ldae_model &m = ev_.model();
-  std::vector<int> found(std::max(m.n_roots, 0));
-  if (!found.empty() && IDAGetRootInfo(impl_->mem, found.data()) < 0)
-    found.assign(found.size(), 0);
-  return found;
+  return sundials::rootInfo(ev_.model().n_roots, [&](int *found) {
+    return IDAGetRootInfo(impl_->mem, found);
+  });
 }
 
 std::vector<double> IdaIntegrator::weightedErrors() const {
-  int n = ev_.n();
-  std::vector<double> out(n, 0.0);
-  N_Vector w = N_VClone(impl_->y), e = N_VClone(impl_->y);
-  if (w && e && IDAGetErrWeights(impl_->mem, w) >= 0 &&
-      IDAGetEstLocalErrors(impl_->mem, e) >= 0) {
-    const double *pw = N_VGetArrayPointer(w), *pe = N_VGetArrayPointer(e);
-    for (int i = 0; i < n; ++i)
-      out[i] = std::abs(pw[i] * pe[i]);
-  }
-  if (w)
-    N_VDestroy(w);
-  if (e)
-    N_VDestroy(e);
-  return out;
+  void *mem = impl_->mem;
+  return sundials::weightedErrors(
+      impl_->y, ev_.n(), [&](N_Vector w) { return IDAGetErrWeights(mem, w); },
+      [&](N_Vector e) { return IDAGetEstLocalErrors(mem, e); });
 }
 
 double IdaIntegrator::currentTime() const {
-  double t = 0;
-  if (IDAGetCurrentTime(impl_->mem, &t) < 0)
-    return 0;
-  return t;
+  return sundials::valueOrZero(
+      [&](double *v) { return IDAGetCurrentTime(impl_->mem, v); });
 }
 
 double IdaIntegrator::lastStep() const {
-  double h = 0;
-  if (IDAGetLastStep(impl_->mem, &h) < 0)
-    return 0;
-  return h;
+  return sundials::valueOrZero(
+      [&](double *v) { return IDAGetLastStep(impl_->mem, v); });
 }
 
-double IdaIntegrator::currentCj() const {
-  double cj = 0;
-  if (IDAGetCurrentCj(impl_->mem, &cj) < 0)
-    return 0;
-  return cj;
+double IdaIntegrator::iterationCj() const {
+  return sundials::valueOrZero(
+      [&](double *v) { return IDAGetCurrentCj(impl_->mem, v); });
 }
 
 } // namespace ldae::runtime

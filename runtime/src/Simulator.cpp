@@ -1,12 +1,13 @@
-// The simulation driver (see Simulator.h): resolve options, find a
-// consistent initial point, step IDA one internal step at a time,
-// interpolate onto the output grid, switch state sets when the current
-// one's pivot degrades, and keep the results of a failed run.
+// The simulation driver (see ldae/Simulation.h): resolve options, find a
+// consistent initial point, step the integrator (IDA or CVODE, behind
+// Integrator.h) one internal step at a time, interpolate onto the output
+// grid, switch state sets when the current one's pivot degrades, and keep
+// the results of a failed run.
 #include "ldae/Simulation.h"
 #include "ConsistentInit.h"
 #include "SparseInit.h"
 #include "FailureReport.h"
-#include "IdaIntegrator.h"
+#include "Integrator.h"
 #include "Progress.h"
 #include "ResultWriter.h"
 #include "StateSelection.h"
@@ -15,7 +16,6 @@
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
-#include <ida/ida.h>
 #include <ostream>
 
 namespace ldae::runtime {
@@ -131,7 +131,7 @@ private:
 constexpr int kMaxDenseInitUnknowns = 10000;
 
 /// Hands a consistent point found by our own Newton iteration to IDA.
-bool adoptInitialPoint(const ModelEval &ev, IdaIntegrator &ida, int set,
+bool adoptInitialPoint(const ModelEval &ev, Integrator &ida, int set,
                        double t0, const std::vector<double> &y0,
                        const InitOutcome &init, SimResult &res,
                        std::ostream *log) {
@@ -156,14 +156,13 @@ std::string initFailure(const ModelEval &ev, int set, double t0,
 
 /// Finds the initial point from the start vector (y, yp) (IDA holds it);
 /// returns false (with the failure filled in) when there is none.
-bool initializeFrom(const ModelEval &ev, IdaIntegrator &ida, int set,
+bool initializeFrom(const ModelEval &ev, Integrator &ida, int set,
                     double t0, double tNext, std::vector<double> y,
                     std::vector<double> yp, SimResult &res,
                     std::ostream *log) {
   int n = ev.n();
   if (isPlainIndexOne(ev, set, t0, y.data(), yp.data())) {
-    int flag = ida.calcIC(tNext);
-    if (flag >= 0) {
+    if (ida.completeStart(tNext).ok()) {
       if (log)
         *log << "initialization: index-1 structure; algebraic values and "
                 "derivatives solved from the differential start values\n";
@@ -251,7 +250,7 @@ bool initializeFrom(const ModelEval &ev, IdaIntegrator &ida, int set,
 /// solved from the start values, to the actual one (lambda = 1), each
 /// initialization starting from the last; the step in lambda grows after a
 /// success and halves after a failure.
-bool homotopyContinuation(ModelEval &ev, IdaIntegrator &ida, int set,
+bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set,
                           double t0, double tNext, int lambda, SimResult &res,
                           std::ostream *log) {
   const ldae_model &m = ev.model();
@@ -304,7 +303,7 @@ bool homotopyContinuation(ModelEval &ev, IdaIntegrator &ida, int set,
 /// Finds the initial point from the start values; where that fails and the
 /// model has homotopy(), continues from its simplified model. Returns false
 /// (with the failure filled in) when there is none.
-bool initialize(ModelEval &ev, IdaIntegrator &ida, int set, double t0,
+bool initialize(ModelEval &ev, Integrator &ida, int set, double t0,
                 double tNext, SimResult &res, std::ostream *log) {
   const ldae_model &m = ev.model();
   int n = ev.n();
@@ -326,7 +325,7 @@ bool initialize(ModelEval &ev, IdaIntegrator &ida, int set, double t0,
 }
 
 /// Restarts IDA at the current point with state set `to`.
-bool switchStates(const ModelEval &ev, IdaIntegrator &ida, int to, double t,
+bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
                   double tNext, const std::vector<double> &cond, SimResult &res,
                   std::ostream *log) {
   int from = ida.set();
@@ -337,10 +336,10 @@ bool switchStates(const ModelEval &ev, IdaIntegrator &ida, int to, double t,
     res.failure = describeSolverError(t, re.error());
     return false;
   }
-  int flag = ida.calcIC(tNext);
-  if (flag < 0) {
-    res.failure =
-        describeInitFailure(ev, ida, flag, t) + " (after switching state sets)";
+  StepStatus started = ida.completeStart(tNext);
+  if (!started.ok()) {
+    res.failure = describeInitFailure(ev, ida, started, t) +
+                  " (after switching state sets)";
     return false;
   }
   ++res.stats.stateSwitches;
@@ -411,10 +410,11 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   ModelEval ev(m, *params);
   Recorder rec(ev, cols, res);
   res.stats.n = m.n;
-  auto finish = [&](IdaIntegrator *ida) -> Expected<SimResult> {
+  auto finish = [&](Integrator *ida) -> Expected<SimResult> {
     if (ida) {
       ida->addCounters(res.stats);
       res.stats.sparse = ida->sparse();
+      res.stats.integrator = ida->name();
     }
     res.stats.wallTime =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0)
@@ -459,10 +459,14 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   for (int i = 0; i < m.n; ++i)
     atol[i] = s.atol * (m.nominal ? m.nominal[i] : 1.0);
   double tNext = s.start + (span > 0 ? std::min(s.interval, span) : 1e-6);
-  IdaIntegrator ida(ev);
-  // IDA needs stop > start; a zero-length run still initializes.
+  auto made = makeIntegrator(ev, o.integrator);
+  if (!made)
+    return Error{made.error()};
+  Integrator &ida = **made;
+  // IDA and CVODE need stop > start; a zero-length run still initializes.
   auto ok = ida.init(set, s.start, m.start_y, m.start_yp, s.rtol, atol,
-                     span > 0 ? s.stop : s.start + 1e-6, !o.algebraicErrorTest.value_or(false));
+                     span > 0 ? s.stop : s.start + 1e-6,
+                     o.algebraicErrorTest.value_or(m.algebraic_error_test != 0));
   if (!ok) {
     // The options were fine; a SUNDIALS call failing from here on is a
     // numerical failure of this run (status 3), never a command-line error.
@@ -479,48 +483,53 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   if (!rec.record(s.start, ida.y(), ida.yp()) || span <= 0)
     return finish(&ida);
 
-  // Grid mode steps onto every output time with IDA's stop time, so the
-  // reported values are step results that satisfy the constraints to the
-  // Newton tolerance (interpolated algebraic values would not).
-  long k = 1;
+  // The integrator steps freely up to the stop time; output times it steps
+  // over are interpolated from the last step's polynomial (computed
+  // variables are evaluated there by the outputs function). A stop time
+  // per output would cost steps and Jacobian refreshes (docs/runtime.md).
+  long k = 1; // next output time
   Progress progress(o.progress, s.start, s.stop);
   double t = s.start;
   int tinySteps = 0; // consecutive steps at round-off level
-  auto target =
-      o.everyStep ? ida.setStopTime(s.stop) : ida.setStopTime(gridTime(k));
-  if (!target) {
+  std::vector<double> yAt(m.n), ypAt(m.n);
+  if (auto target = ida.setStopTime(s.stop); !target) {
     res.failure = describeSolverError(s.start, target.error());
     return finish(&ida);
   }
   while (true) {
-    int flag = ida.step(t);
-    if (flag >= 0 && ida.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
+    StepStatus st = ida.step(t);
+    if (st.ok() && ida.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
       ++tinySteps;
     else
       tinySteps = 0;
     if (tinySteps > 20)
-      flag = kStepCollapsed;
-    if (flag < 0) {
-      res.failure = describeFailure(ev, ida, flag, ida.currentTime());
+      st = StepStatus::failed(FailureKind::StepCollapsed, "step size collapse");
+    if (!st.ok()) {
+      res.failure = describeFailure(ev, ida, st, ida.currentTime());
       break;
     }
-    bool atStop = flag == IDA_TSTOP_RETURN;
+    bool recorded = true;
     if (o.everyStep) {
-      if (!rec.record(t, ida.y(), ida.yp()))
-        break;
-    } else if (atStop) {
-      if (!rec.record(t, ida.y(), ida.yp()))
-        break;
-      if (++k <= nOut) {
-        atStop = false;
-        auto next = ida.setStopTime(gridTime(k));
-        if (!next) {
-          res.failure = describeSolverError(t, next.error());
+      recorded = rec.record(t, ida.y(), ida.yp());
+    } else {
+      for (; recorded && k <= nOut && gridTime(k) <= t; ++k) {
+        double tk = gridTime(k);
+        if (tk == t) {
+          recorded = rec.record(t, ida.y(), ida.yp());
+          continue;
+        }
+        auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
+        if (!at) {
+          res.failure = describeSolverError(tk, at.error());
+          recorded = false;
           break;
         }
+        recorded = rec.record(tk, yAt.data(), ypAt.data());
       }
     }
-    if (flag == IDA_ROOT_RETURN && o.log) {
+    if (!recorded)
+      break;
+    if (st.kind == StepStatus::Root && o.log) {
       std::vector<int> found = ida.rootsFound();
       for (size_t r = 0; r < found.size(); ++r)
         if (found[r])
@@ -528,7 +537,8 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
                                 "zero\n",
                                 t, r + 1);
     }
-    if (atStop || t >= s.stop)
+    if (st.kind == StepStatus::StopReached || t >= s.stop ||
+        (!o.everyStep && k > nOut))
       break;
     if (m.n_state_sets > 1) {
       cond = pivotConditions(ev, t, ida.y(), ida.yp());
@@ -545,7 +555,8 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
 }
 
 void printStats(const SimStats &st, std::ostream &out) {
-  out << fmt::format("unknowns                    {}\n", st.n)
+  out << fmt::format("integrator                  {}\n", st.integrator)
+      << fmt::format("unknowns                    {}\n", st.n)
       << fmt::format("linear solver               {}\n",
                      st.sparse ? "KLU (sparse)" : "dense LU")
       << fmt::format("steps                       {}\n", st.steps)

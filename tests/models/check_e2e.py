@@ -96,7 +96,12 @@ def pendulum(ldaec, model):
     # docs/runtime.md, end-to-end results); bounded here so a regression
     # shows, the 1e-6 match is checked at rtol 1e-12 below.
     check(pos <= 5e-4, "rtol 1e-9: |x, y - polar| <= 5e-4 (max %.2e)" % pos)
-    _, rows, _ = run(ldaec, common + ["--rtol", "1e-12"])
+    # At rtol 1e-12 the iteration variables of the causal form (lambda,
+    # der(y): second derivatives) cannot meet the error test for round-off
+    # (pendulum2: 124,405 error test failures, 7.8e-6): out of it, they
+    # follow the states (docs/runtime.md, "The error test").
+    _, rows, _ = run(ldaec, common + ["--rtol", "1e-12",
+                                      "--algebraic-error-test", "off"])
     same_times(rows, ref)
     pos = max_error(rows, ref, ["x", "y"])
     check(pos <= 1e-6, "rtol 1e-12: |x, y - polar| <= 1e-6 (max %.2e)" % pos)
@@ -131,7 +136,7 @@ def robertson_sundials(ldaec):
     times = ",".join(repr(r["time"]) for r in ref)
     _, rows, err = run(ldaec, [
         os.path.join(HERE, "robertson_sundials.lsd"), "--simulate",
-        "--rtol", "1e-4", "--atol", "1e-6", "--algebraic-error-test",
+        "--rtol", "1e-4", "--atol", "1e-6", "--algebraic-error-test", "on",
         # The example hands IDA all three unknowns; causalized, y3 =
         # 1 - y1 - y2 leaves the error test and the path differs by more
         # than the example's own check allows (51 x at rtol 1e-4).
@@ -157,7 +162,8 @@ def robertson_ref(ldaec):
     times = ",".join(repr(r["time"]) for r in ref)
     _, rows, _ = run(ldaec, [
         os.path.join(ROOT, "examples", "robertson.lsd"), "--simulate",
-        "--rtol", "1e-10", "--output-times", times])
+        # y2 falls to 2e-13: four digits need an atol far below it.
+        "--rtol", "1e-10", "--atol", "1e-20", "--output-times", times])
     rows = rows[1:]
     same_times(rows, ref)
     worst = max(abs(r[n] - q[n]) / abs(q[n]) for r, q in zip(rows, ref)

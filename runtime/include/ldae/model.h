@@ -147,6 +147,13 @@ typedef struct ldae_model {
      causal form "ODE"), so f(t, y) = -F(t, y, 0) and df/dy = -J(cj = 0).
      CVODE runs such a model; 0 otherwise. */
   int explicit_ode;
+
+  /* 1 when every unknown belongs in the integrator's local error test: the
+     system is of index 1 (every reduced one is). 0 when the algebraic
+     unknowns are left out of it: a system handed over as written
+     (`--method raw`) whose index exceeds one, where their errors do not
+     follow the differential ones' (docs/runtime.md, "The error test"). */
+  int algebraic_error_test;
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians

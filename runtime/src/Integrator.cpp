@@ -1,0 +1,43 @@
+// The choice of integrator and the callback status shared by IDA and CVODE
+// (see Integrator.h).
+#include "Integrator.h"
+#include "CvodeIntegrator.h"
+#include "IdaIntegrator.h"
+
+namespace ldae::runtime {
+
+int Integrator::callbackStatus(CallbackData &d, int rc, const double *y) {
+  if (rc > 0) {
+    d.domainRow = rc - 1;
+    d.domainY.assign(y, y + d.ev->n());
+    return 1;
+  }
+  return rc < 0 ? -1 : 0;
+}
+
+Expected<std::unique_ptr<Integrator>> makeIntegrator(const ModelEval &ev,
+                                                     IntegratorChoice choice) {
+  const ldae_model &m = ev.model();
+  bool ode = m.explicit_ode != 0 && m.n_state_sets == 1;
+  switch (choice) {
+  case IntegratorChoice::Auto:
+    if (ode)
+      return std::unique_ptr<Integrator>(
+          std::make_unique<CvodeIntegrator>(ev, false));
+    return std::unique_ptr<Integrator>(std::make_unique<IdaIntegrator>(ev));
+  case IntegratorChoice::Ida:
+    return std::unique_ptr<Integrator>(std::make_unique<IdaIntegrator>(ev));
+  case IntegratorChoice::CvodeBdf:
+  case IntegratorChoice::CvodeAdams:
+    if (!ode)
+      return Error{
+          "CVODE integrates explicit ODEs only, and this model is a DAE "
+          "(its causal form keeps algebraic unknowns or several state sets; "
+          "`--analyze` shows the form); use --integrator ida or auto"};
+    return std::unique_ptr<Integrator>(std::make_unique<CvodeIntegrator>(
+        ev, choice == IntegratorChoice::CvodeAdams));
+  }
+  return Error{"internal error: unknown integrator choice"};
+}
+
+} // namespace ldae::runtime
