@@ -54,14 +54,16 @@ def ldaec_cmd(ldaec, n, integrator):
 
 
 def time_ldaec(ldaec, n, integrator):
-    """(integration time, steps, integrator name) of one run, all variables
-    recorded, the CSV thrown away."""
+    """(integration time, steps, "integrator, backend") of one run, all
+    variables recorded, the CSV thrown away."""
     _, err, _ = run(ldaec_cmd(ldaec, n, integrator) + ["-o", os.devnull])
     if int(stat(err, "unknowns")) != n:
         raise RuntimeError("ldaec integrates %d unknowns, not N = %d" %
                            (stat(err, "unknowns"), n))
+    backend = (word(err, "backend:") or "").split(" (")[0]
+    name = word(err, "integrator") or "IDA"
     return (integration_time(err), int(stat(err, "steps")),
-            word(err, "integrator") or "ida")
+            name + (", " + backend if backend else ""))
 
 
 def time_c(program, n):
