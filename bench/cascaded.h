@@ -33,7 +33,7 @@ typedef struct {
 } Cascaded;
 
 static inline double cascadedOption(int argc, char **argv, const char *name,
-                             double dflt) {
+                                    double dflt) {
   for (int i = 2; i + 1 < argc; ++i)
     if (strcmp(argv[i], name) == 0)
       return atof(argv[i + 1]);
@@ -43,8 +43,10 @@ static inline double cascadedOption(int argc, char **argv, const char *name,
 static inline Cascaded cascadedSetup(int argc, char **argv) {
   Cascaded c;
   if (argc < 2 || atol(argv[1]) < 1) {
-    fprintf(stderr, "usage: %s N [--rtol R] [--atol A] [--stop T] "
-                    "[--interval H]\n", argv[0]);
+    fprintf(stderr,
+            "usage: %s N [--rtol R] [--atol A] [--stop T] "
+            "[--interval H]\n",
+            argv[0]);
     exit(2);
   }
   c.n = atol(argv[1]);
@@ -56,8 +58,8 @@ static inline Cascaded cascadedSetup(int argc, char **argv) {
   c.rows = (long)ceil(c.stop / c.interval - 1e-9);
   if (c.rows < 1)
     c.rows = 1;
-  c.saved = benchCheckPtr(malloc(sizeof(double) * (size_t)(c.rows + 1) *
-                                 (size_t)c.n), "malloc");
+  c.saved = benchCheckPtr(
+      malloc(sizeof(double) * (size_t)(c.rows + 1) * (size_t)c.n), "malloc");
   return c;
 }
 
@@ -82,8 +84,8 @@ static inline void cascadedRhs(const Cascaded *c, const double *x, double *f) {
  * column j holds row j and, but for the last column, row j + 1; `diag` and
  * `sub` are the values on and below the diagonal. */
 static inline void cascadedFillCsc(const Cascaded *c, sunindextype *colptr,
-                            sunindextype *rowval, double *data, double diag,
-                            double sub) {
+                                   sunindextype *rowval, double *data,
+                                   double diag, double sub) {
   sunindextype nz = 0;
   for (long j = 0; j < c->n; ++j) {
     colptr[j] = nz;
@@ -111,8 +113,7 @@ typedef void (*CascadedAdvance)(void *mem, double tout);
 
 /* Records the start row and one row per output time. */
 static inline void cascadedIntegrate(Cascaded *c, void *mem,
-                                     CascadedAdvance advance,
-                                     const double *x) {
+                                     CascadedAdvance advance, const double *x) {
   cascadedRecord(c, 0, x);
   for (long k = 1; k <= c->rows; ++k) {
     advance(mem, cascadedOutputTime(c, k));

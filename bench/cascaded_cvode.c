@@ -14,8 +14,8 @@ static int rhs(realtype t, N_Vector x, N_Vector f, void *data) {
   return 0;
 }
 
-static int jacobian(realtype t, N_Vector x, N_Vector f, SUNMatrix J,
-                    void *data, N_Vector t1, N_Vector t2, N_Vector t3) {
+static int jacobian(realtype t, N_Vector x, N_Vector f, SUNMatrix J, void *data,
+                    N_Vector t1, N_Vector t2, N_Vector t3) {
   (void)t, (void)x, (void)f, (void)t1, (void)t2, (void)t3;
   const Cascaded *c = data;
   double rate = 1.0 / c->tau;

@@ -18,9 +18,9 @@
 
 #include <ida/ida.h>
 #include <nvector/nvector_serial.h>
+#include <string.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
-#include <string.h>
 
 enum { kUnknowns = 3, kOutputs = 12 };
 static const double k1 = 0.04, k2 = 1e4, k3 = 3e7;
