@@ -380,8 +380,8 @@ void printFunction(std::ostream &os, const CodePlan &plan,
 /// `<sym>.c`: the runtime library of the ldaec that wrote it.
 std::string mainCompileCommand(const std::string &sym) {
   std::string lib = LDAE_RUNTIME_LIBDIR;
-  return "cc -O2 " + sym + ".c -L" + lib + " -lldaert -Wl,-rpath," + lib +
-         " -lm -o " + sym;
+  return "cc " LDAE_MAIN_CFLAGS " " + sym + ".c -L" + lib +
+         " -lldaert -Wl,-rpath," + lib + " -lm -o " + sym;
 }
 
 template <typename T, typename F>
