@@ -67,6 +67,11 @@ quiet() {
 }
 
 cd "$scratch"
+if ! apt-cache showsrc sundials 2>/dev/null | grep -qxF "Version: $DEB_VERSION"; then
+  echo "build-sundials: no source package sundials $DEB_VERSION in apt's index;" \
+       "scripts/install-deps.sh adds the deb-src line and updates it" >&2
+  exit 1
+fi
 echo "build-sundials: SUNDIALS $DEB_VERSION, $CFLAGS_OPT, static -fPIC -> $PREFIX"
 quiet apt-get source --download-only "sundials=$DEB_VERSION"
 # apt checked the files against the signed Sources index, as its own
