@@ -64,8 +64,8 @@ void printUsage(const ldae_model &m, const ldae_bindings &b) {
       "[--atol A]\n"
       "               [--integrator auto|ida|cvode|cvode-bdf|cvode-adams] "
       "[--stats]\n"
-      "               [--algebraic-error-test] [--param NAME=VALUE]... "
-      "[-o FILE]\n"
+      "               [--algebraic-error-test on|off|auto] "
+      "[--param NAME=VALUE]... [-o FILE]\n"
       "               [--no-progress] [--help]\n"
       "Exit codes: 0 success, 1 internal error, 2 bad command line, "
       "3 numerical failure\n"
@@ -142,6 +142,19 @@ bool parseIntegrator(const char *text, IntegratorChoice &choice) {
   return false;
 }
 
+/// on, off or auto (unset: the runtime's default rule).
+bool parseOnOffAuto(const char *opt, const char *text,
+                    std::optional<bool> &value) {
+  std::string s = text;
+  if (s == "on" || s == "off" || s == "auto") {
+    value = s == "auto" ? std::nullopt : std::optional<bool>(s == "on");
+    return true;
+  }
+  fail(kBadCommandLine,
+       fmt::format("{}: '{}' is not one of on, off, auto", opt, text));
+  return false;
+}
+
 /// Fills `args` from argv; false after printing why (exit 2).
 bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
                char **argv, Args &args) {
@@ -156,17 +169,14 @@ bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
       args.sim.progress = false;
       continue;
     }
-    if (a == "--algebraic-error-test") {
-      args.sim.algebraicErrorTest = true;
-      continue;
-    }
     std::optional<double> *number = a == "--start"      ? &args.sim.start
                                      : a == "--stop"     ? &args.sim.stop
                                      : a == "--interval" ? &args.sim.interval
                                      : a == "--rtol"     ? &args.sim.rtol
                                      : a == "--atol"     ? &args.sim.atol
                                                          : nullptr;
-    if (!number && a != "-o" && a != "--param" && a != "--integrator") {
+    if (!number && a != "-o" && a != "--param" && a != "--integrator" &&
+        a != "--algebraic-error-test") {
       fail(kBadCommandLine,
            fmt::format("unknown option '{}' (see --help)", a));
       return false;
@@ -185,6 +195,8 @@ bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
       args.outPath = v;
     } else if (a == "--integrator") {
       ok = parseIntegrator(v, args.sim.integrator);
+    } else if (a == "--algebraic-error-test") {
+      ok = parseOnOffAuto(a.c_str(), v, args.sim.algebraicErrorTest);
     } else {
       ok = parseParam(m, b, v, args);
     }

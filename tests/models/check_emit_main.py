@@ -8,8 +8,9 @@ Cases:
                 values (analytic solution and --simulate); refusal of a
                 structural parameter; the CSV columns; a model with no
                 unknowns; initial equations and a fixed algebraic value
-                (refused before the runtime took over); --integrator and
-                --stats; a numerical failure (exit 3, rows kept)
+                (refused before the runtime took over); --integrator (an
+                ODE: CVODE by default) and --stats; a numerical failure
+                (exit 3, rows kept)
   andrews MODEL Andrews' squeezing mechanism (q[1] fixed and algebraic in
                 the first state set): the Bari test set's reference at 0.03
   pendulum MODEL the Cartesian pendulum from theta0 = 1.5: the state set
@@ -148,6 +149,8 @@ def params(ldaec, model, tmp):
             (["--param", "kk=1"], 2, "no parameter 'kk'; did you mean 'k'"),
             (["--stop", "nan"], 2, "--stop: 'nan' is not a finite number"),
             (["--integrator", "rk4"], 2, "--integrator: 'rk4' is not one of"),
+            (["--algebraic-error-test", "yes"], 2,
+             "--algebraic-error-test: 'yes' is not one of on, off, auto"),
             (["--stop", "-1"], 2, "the stop time -1 is before the start "
              "time 0"),
             (["--frobnicate"], 2, "unknown option '--frobnicate'"),
@@ -162,7 +165,7 @@ def params(ldaec, model, tmp):
 
     # --stats, --integrator and --algebraic-error-test reach the runtime.
     for extra in (["--integrator", "ida"],
-                  ["--integrator", "auto", "--algebraic-error-test"]):
+                  ["--integrator", "auto", "--algebraic-error-test", "on"]):
         prog = run([exe] + grid + extra + ["--stats"])
         check(prog.returncode == 0 and stat(prog.stderr, "steps") and
               len(rows(prog.stdout)) == 5,
@@ -198,6 +201,23 @@ def params(ldaec, model, tmp):
         worst = max(abs(r["x"] - 2 * math.exp(-r["time"])) +
                     abs(r.get("y", r["x"] + 1) - r["x"] - 1) for r in got)
         check(worst < 1e-6, "%s met: x = 2 exp(-t) (%.1e)" % (what, worst))
+
+    # An explicit ODE: auto picks CVODE; --integrator picks as in ldaec.
+    osc = write(tmp, "osc.lsd",
+                "model O\n  Real x(start = 1, fixed = true);\n"
+                "  Real v(start = 0, fixed = true);\nequation\n"
+                "  der(x) = v;\n  der(v) = -x;\nend O;\n")
+    exe = build(ldaec, osc, tmp, "osc")
+    which = lambda text: (re.findall(r"^integrator\s+(.*)$", text, re.M)
+                          or ["?"])[0]
+    for integ, name in (("auto", "CVODE (BDF)"), ("ida", "IDA"),
+                        ("cvode-adams", "CVODE (Adams)")):
+        args = ["--stop", "10", "--integrator", integ, "--stats"]
+        prog, sim = run([exe] + args), simulate(ldaec, osc, args)
+        check(which(prog.stderr) == name == which(sim.stderr) and
+              prog.stdout == sim.stdout and prog.returncode == 0,
+              "--integrator %s: %s ran, CSV byte-equal to --simulate's" %
+              (integ, which(prog.stderr)))
 
     # A numerical failure: the runtime's report, exit 3, rows kept.
     blow = write(tmp, "blow.lsd",
