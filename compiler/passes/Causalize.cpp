@@ -86,6 +86,8 @@ private:
 
   void findEligible();
   Solvability solvability(int row, ir::VarKey k, ir::ExprRef *coef);
+  Solvability solvabilityIn(ir::ExprRef r, ir::VarKey k, ir::ExprRef *coef);
+  bool explicitOdeForm();
   void scalarBlock(int row, int col);
   void loopBlock(const std::vector<int> &rows);
   bool rebuild();
@@ -146,7 +148,11 @@ void Causalizer::findEligible() {
 }
 
 Solvability Causalizer::solvability(int row, ir::VarKey k, ir::ExprRef *coef) {
-  ir::ExprRef r = sys_.stateSets[0].residuals[row];
+  return solvabilityIn(sys_.stateSets[0].residuals[row], k, coef);
+}
+
+Solvability Causalizer::solvabilityIn(ir::ExprRef r, ir::VarKey k,
+                                      ir::ExprRef *coef) {
   ir::ExprRef a = diff_.partial(r, k);
   if (a->isConstant(0) || ir::dependsOn(a, k))
     return Solvability::No;
@@ -347,7 +353,57 @@ void Causalizer::run() {
   for (const CausalBlock &b : out_.blocks)
     ode = ode && (b.kind == CausalBlock::Kind::Explicit ||
                   b.kind == CausalBlock::Kind::Derivative);
-  out_.ode = ode;
+  out_.ode = ode && explicitOdeForm();
+  sys_.explicitOde = out_.ode;
+}
+
+// The form CVODE takes (ldae_model::explicit_ode): row i is der(x_i) -
+// f_i(t, x). Each row must read one derivative, its own unknown's, through
+// a coefficient free of derivatives and branches; then the row is divided
+// by it and moved to its unknown's place. A value substituted in may read
+// another derivative (y = der(x) + 1 in der(z) = y): the form stays a DAE.
+bool Causalizer::explicitOdeForm() {
+  const int n = static_cast<int>(sys_.unknowns.size());
+  auto code = [](ir::VarKey k) {
+    return (static_cast<uint64_t>(k.var) << 16) | k.order;
+  };
+  std::unordered_map<uint64_t, int> derivativeOf;
+  for (int u = 0; u < n; ++u)
+    derivativeOf[code(derivativeKey(u))] = u;
+  ir::StateSet &st = sys_.stateSets[0];
+  std::vector<ir::ExprRef> rows(n, nullptr);
+  std::vector<SourceLoc> locs(n);
+  for (int r = 0; r < n; ++r) {
+    ir::ExprRef res = st.residuals[r];
+    int u = -1;
+    for (ir::VarKey k : variablesOf(res))
+      if (auto it = derivativeOf.find(code(k)); it != derivativeOf.end()) {
+        if (u >= 0 && u != it->second)
+          return false;
+        u = it->second;
+      }
+    if (u < 0 || rows[u])
+      return false;
+    ir::ExprRef a = nullptr;
+    ir::VarKey dk = derivativeKey(u);
+    if (solvabilityIn(res, dk, &a) == Solvability::No)
+      return false;
+    for (ir::VarKey k : variablesOf(a))
+      if (derivativeOf.count(code(k)))
+        return false;
+    if (a->isConstant(1)) {
+      rows[u] = res;
+    } else {
+      ir::Substitution atZero(ctx_);
+      atZero.set(ctx_.var(dk), ctx_.zero());
+      rows[u] = ctx_.add(ctx_.var(dk), ctx_.div(atZero.apply(res), a));
+    }
+    locs[u] = rowLoc(r);
+  }
+  st.residuals = std::move(rows);
+  if (!sys_.residualLocs.empty())
+    sys_.residualLocs = std::move(locs);
+  return true;
 }
 
 // Substitutes the assigned unknowns away, in solve order: each value reads
