@@ -80,10 +80,13 @@ quiet dpkg-source --no-check -x "sundials_$DEB_VERSION.dsc" src
 quiet cmake -S src -B build -G Ninja -Wno-dev "${OPTIONS[@]}" \
   -DCMAKE_INSTALL_PREFIX="$PREFIX" -DCMAKE_INSTALL_LIBDIR=lib
 quiet cmake --build build -j "$JOBS"
-# Install into a staging tree and move it in whole, so the prefix is
-# never half there.
-DESTDIR="$scratch/stage" quiet cmake --install build
-echo "$STAMP_TEXT" > "$scratch/stage$PREFIX/ldaec-build.stamp"
-$SUDO rm -rf "$PREFIX"
-$SUDO mv "$scratch/stage$PREFIX" "$PREFIX"
+# Install into a staging tree beside the prefix (same file system) and
+# rename it into place, so builds linking from the prefix never see it
+# half there.
+stage=$($SUDO mktemp -d "$parent/.sundials-stage.XXXXXX")
+trap 'rm -rf "$scratch"; $SUDO rm -rf "$stage"' EXIT
+quiet $SUDO env DESTDIR="$stage" cmake --install build
+echo "$STAMP_TEXT" | $SUDO tee "$stage$PREFIX/ldaec-build.stamp" >/dev/null
+if [ -e "$PREFIX" ]; then $SUDO mv "$PREFIX" "$stage/old"; fi
+$SUDO mv "$stage$PREFIX" "$PREFIX"
 echo "build-sundials: done"
