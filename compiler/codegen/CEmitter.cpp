@@ -351,7 +351,8 @@ void printFunction(std::ostream &os, const CodePlan &plan,
   if (fn.sig != FnSig::InitJacobian)
     os << "  double *const out1 = 0;\n";
   os << "  int rc = 0;\n"
-     << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out1;\n";
+     << "  (void)t; (void)y; (void)yp; (void)p; (void)cj; (void)out0; "
+        "(void)out1;\n";
   for (unsigned i = 0; i < 2; ++i)
     if (fn.zeroFill[i])
       os << "  memset(out" << i << ", 0, " << fn.zeroFill[i]
