@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include <new>
+#include <optional>
 #include <unordered_map>
 
 namespace ldae::frontend {
@@ -266,11 +267,53 @@ private:
   std::unordered_map<tree::ParseTree *, unsigned> depth_;
 };
 
-} // namespace
+/// Counts lexer errors without reporting them.
+struct CountingListener : BaseErrorListener {
+  unsigned count = 0;
+  void syntaxError(Recognizer *, Token *, size_t, size_t, const std::string &,
+                   std::exception_ptr) override {
+    ++count;
+  }
+};
 
+/// The parse of a file without syntax errors, the common case, done the
+/// fast way (ANTLR's two-stage strategy): SLL prediction, no recovery, and
+/// nothing reported. Unset when the file has an error (or nests too
+/// deeply): the caller then parses it again with reportingParse, which
+/// words every error exactly as a single parse would. SLL either gives the
+/// tree full LL gives or fails, so the tree is the same.
+std::optional<std::unique_ptr<ast::StoredDefinition>>
+quickParse(uint32_t fileId, const SourceManager &sources,
+           DiagnosticEngine &diags) {
+  SourceStream input(sources.text(fileId));
+  lsdparser::LsdLexer lexer(&input);
+  CountingListener lexErrors;
+  lexer.removeErrorListeners();
+  lexer.addErrorListener(&lexErrors);
+  CommonTokenStream tokens(&lexer);
+  tokens.fill();
+  if (lexErrors.count != 0)
+    return std::nullopt;
+  GuardedParser parser(&tokens);
+  parser.removeErrorListeners();
+  parser.setErrorHandler(std::make_shared<BailErrorStrategy>());
+  parser.getInterpreter<atn::ParserATNSimulator>()->setPredictionMode(
+      atn::PredictionMode::SLL);
+  ParserRuleContext *tree = nullptr;
+  try {
+    tree = parser.storedDefinition();
+  } catch (const std::bad_alloc &) {
+    throw;
+  } catch (...) {
+    return std::nullopt; // ParseCancellationException, AbortParse...
+  }
+  return buildAst(tree, fileId, input.chars(), diags);
+}
+
+/// The parse that recovers from syntax errors and reports them.
 std::unique_ptr<ast::StoredDefinition>
-parseFile(uint32_t fileId, const SourceManager &sources,
-          DiagnosticEngine &diags) {
+reportingParse(uint32_t fileId, const SourceManager &sources,
+               DiagnosticEngine &diags) {
   ErrorSink sink{fileId, sources, diags};
   SourceStream input(sources.text(fileId));
   lsdparser::LsdLexer lexer(&input);
@@ -308,6 +351,16 @@ parseFile(uint32_t fileId, const SourceManager &sources,
   if (sink.count != 0)
     return nullptr;
   return buildAst(tree, fileId, input.chars(), diags);
+}
+
+} // namespace
+
+std::unique_ptr<ast::StoredDefinition>
+parseFile(uint32_t fileId, const SourceManager &sources,
+          DiagnosticEngine &diags) {
+  if (auto tree = quickParse(fileId, sources, diags))
+    return std::move(*tree);
+  return reportingParse(fileId, sources, diags);
 }
 
 } // namespace ldae::frontend
