@@ -8,7 +8,7 @@ scripts/build-sundials.sh, not Debian's -O0 libsundials-dev
       (with the static build it loads none at all).
   check_sundials.py optimized FILE [SYMBOL ...]
       The machine code of each SUNDIALS function (by default one from each
-      library the runtime links) is not -O0 code. The function is looked
+      library the runtime links, those FILE links at all) is not -O0 code. The function is looked
       for in FILE, then in the shared libraries FILE loads, so a binary
       linked against Debian's libraries fails too.
 
@@ -35,6 +35,9 @@ DEFAULT_SYMBOLS = [
     "IDASolve",                # ida
     "CVode",                   # cvode
 ]
+
+# Every user of the runtime links these: the vector kernel and IDA.
+REQUIRED_SYMBOLS = {"N_VWSqrSumLocal_Serial", "IDASolve"}
 
 ARG_REGS = r"%(?:rdi|rsi|rdx|rcx|r8|r9|edi|esi|edx|ecx|r8d|r9d|xmm[0-7])"
 ARG_SPILL = re.compile(r"\bmov\w*\s+" + ARG_REGS + r",-0x[0-9a-f]+\(%rbp\)")
@@ -94,19 +97,26 @@ def disassemble(tool, path, symbol):
     return lines
 
 
-def check_optimized(path, symbols):
+def check_optimized(path, symbols, required):
+    """Every symbol found must be optimized code; those in `required`
+    must be found. A static link leaves out what nothing calls (CVODE
+    before the runtime used it), so the others may be absent."""
     tool = objdump()
     places = [path] + [p for _, p in shared_libraries(path)]
-    failed = 0
+    failed = checked = 0
     for symbol in symbols:
         for place in places:
             code = disassemble(tool, place, symbol)
             if code:
                 break
         if not code:
-            print(f"FAIL: {symbol} not found in {path} or the libraries it loads")
-            failed += 1
+            if symbol in required:
+                print(f"FAIL: {symbol} not found in {path} or the libraries it loads")
+                failed += 1
+            else:
+                print(f"{symbol}: not linked")
             continue
+        checked += 1
         text = "\n".join(code)
         frame = bool(FRAME_SETUP.search(text))
         spills = ARG_SPILL.findall(text)
@@ -121,7 +131,7 @@ def check_optimized(path, symbols):
             failed += 1
     if failed:
         return 1
-    print(f"ok: {len(symbols)} SUNDIALS functions are optimized code")
+    print(f"ok: {checked} SUNDIALS functions are optimized code")
     return 0
 
 
@@ -135,7 +145,9 @@ def main(argv):
         return 2
     if argv[1] == "ldd":
         return check_ldd(path)
-    return check_optimized(path, argv[3:] or DEFAULT_SYMBOLS)
+    if argv[3:]:
+        return check_optimized(path, argv[3:], set(argv[3:]))
+    return check_optimized(path, DEFAULT_SYMBOLS, REQUIRED_SYMBOLS)
 
 
 if __name__ == "__main__":
