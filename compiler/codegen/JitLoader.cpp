@@ -4,7 +4,6 @@
 #include "codegen/JitBackend.h"
 
 #include <dlfcn.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
