@@ -1,11 +1,23 @@
 #include "Options.h"
 
 #include "codegen/Codegen.h"
+#include "ldae/Simulation.h"
 #include "passes/Pipeline.h"
 
 #include <CLI/CLI.hpp>
 
 namespace ldae::driver {
+
+namespace {
+
+std::vector<std::string> integratorSpellings() {
+  std::vector<std::string> names;
+  for (const runtime::IntegratorSpelling &s : runtime::kIntegratorSpellings)
+    names.push_back(s.name);
+  return names;
+}
+
+} // namespace
 
 void defineOptions(CLI::App &app, Options &o) {
   app.description(
@@ -50,8 +62,7 @@ void defineOptions(CLI::App &app, Options &o) {
                  "auto (default): CVODE (BDF) for an explicit ODE, IDA "
                  "otherwise; ida; cvode (BDF) or cvode-bdf; cvode-adams "
                  "(non-stiff); CVODE needs the ODE form (--analyze shows it)")
-      ->check(CLI::IsMember({"auto", "ida", "cvode", "cvode-bdf",
-                             "cvode-adams"}));
+      ->check(CLI::IsMember(integratorSpellings()));
   // Checked against the spellings first, so the conversion cannot fail.
   app.add_option_function<std::string>(
          "--method",

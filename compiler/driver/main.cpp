@@ -193,12 +193,8 @@ static int run(int argc, char **argv) {
     simOpts.stop = opts.outputTimes.back(); // explicit times end the run
   if (opts.algebraicErrorTest != "auto")
     simOpts.algebraicErrorTest = opts.algebraicErrorTest == "on";
-  simOpts.integrator = opts.integrator == "ida" ? runtime::IntegratorChoice::Ida
-                       : opts.integrator == "cvode-adams"
-                           ? runtime::IntegratorChoice::CvodeAdams
-                       : opts.integrator == "auto"
-                           ? runtime::IntegratorChoice::Auto
-                           : runtime::IntegratorChoice::CvodeBdf;
+  // Checked against the spellings on the command line.
+  simOpts.integrator = *runtime::parseIntegrator(opts.integrator);
   simOpts.outputs = passOpts.outputs;
   if (simOpts.outputs.empty()) {
     // By default the model's own variables; derivatives only when asked.

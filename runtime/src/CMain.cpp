@@ -26,18 +26,6 @@ namespace {
 /// Exit codes of the program (docs/embedding-c.md).
 enum ExitCode { kOk = 0, kInternal = 1, kBadCommandLine = 2, kFailed = 3 };
 
-/// The spellings of --integrator, as `ldaec --integrator` takes them.
-struct IntegratorSpelling {
-  const char *name;
-  IntegratorChoice choice;
-};
-constexpr IntegratorSpelling kIntegrators[] = {
-    {"auto", IntegratorChoice::Auto},
-    {"ida", IntegratorChoice::Ida},
-    {"cvode", IntegratorChoice::CvodeBdf},
-    {"cvode-bdf", IntegratorChoice::CvodeBdf},
-    {"cvode-adams", IntegratorChoice::CvodeAdams}};
-
 /// One parsed command line.
 struct Args {
   SimOptions sim;
@@ -129,12 +117,11 @@ bool parseParam(const ldae_model &m, const ldae_bindings &b, const char *text,
   return true;
 }
 
-bool parseIntegrator(const char *text, IntegratorChoice &choice) {
-  for (const IntegratorSpelling &s : kIntegrators)
-    if (!std::strcmp(text, s.name)) {
-      choice = s.choice;
-      return true;
-    }
+bool parseIntegratorOption(const char *text, IntegratorChoice &choice) {
+  if (auto c = ldae::runtime::parseIntegrator(text)) {
+    choice = *c;
+    return true;
+  }
   fail(kBadCommandLine,
        fmt::format("--integrator: '{}' is not one of auto, ida, cvode, "
                    "cvode-bdf, cvode-adams",
@@ -194,7 +181,7 @@ bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
     } else if (a == "-o") {
       args.outPath = v;
     } else if (a == "--integrator") {
-      ok = parseIntegrator(v, args.sim.integrator);
+      ok = parseIntegratorOption(v, args.sim.integrator);
     } else if (a == "--algebraic-error-test") {
       ok = parseOnOffAuto(a.c_str(), v, args.sim.algebraicErrorTest);
     } else {

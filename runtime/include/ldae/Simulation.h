@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ldae::runtime {
@@ -20,6 +21,26 @@ namespace ldae::runtime {
 /// Which SUNDIALS integrator runs the model. Auto: CVODE (BDF) when the
 /// model is an explicit ODE (ldae_model::explicit_ode), IDA otherwise.
 enum class IntegratorChoice { Auto, Ida, CvodeBdf, CvodeAdams };
+
+/// The spellings of --integrator (ldaec and emitted programs alike).
+struct IntegratorSpelling {
+  const char *name;
+  IntegratorChoice choice;
+};
+inline constexpr IntegratorSpelling kIntegratorSpellings[] = {
+    {"auto", IntegratorChoice::Auto},
+    {"ida", IntegratorChoice::Ida},
+    {"cvode", IntegratorChoice::CvodeBdf},
+    {"cvode-bdf", IntegratorChoice::CvodeBdf},
+    {"cvode-adams", IntegratorChoice::CvodeAdams}};
+
+/// The choice spelled `text`, or nothing.
+inline std::optional<IntegratorChoice> parseIntegrator(std::string_view text) {
+  for (const IntegratorSpelling &s : kIntegratorSpellings)
+    if (text == s.name)
+      return s.choice;
+  return std::nullopt;
+}
 
 /// What the user asked for; unset values fall back to the model's
 /// experiment annotation, then to start 0, stop 1, rtol 1e-6,
