@@ -10,11 +10,12 @@ start").
    against libLLVM).
 2. Where the time of that command goes (medians over --runs runs): the
    dynamic loader (LD_DEBUG=statistics, converted at the TSC rate),
-   start-up and exit of the process (`ldaec --version`, which includes the
-   loader and the static initializers), the stages --time-passes prints
-   (frontend, passes, codegen) and the simulator's own "wall time"
+   start-up and exit of the process (the CPU time of `ldaec --version`,
+   which includes the loader and the static initializers), the stages
+   --time-passes prints (frontend, passes, codegen) and the simulator's own "wall time"
    (--stats: initialization, integration, output grid); the rest is the
-   CSV and the exit.
+   CSV and the exit. Then the same run under callgrind (when valgrind is
+   installed): instructions per part, exact whatever the load.
 3. The backend threshold of --jit auto: whole-process CPU time with --jit on
    and --jit off for models of growing size, with the operations per
    evaluation --stats reports ("backend:" line). The interpreter wins below
@@ -30,6 +31,7 @@ Standard library only.
 import argparse
 import os
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -134,21 +136,71 @@ def breakdown(ldaec, runs):
         parts["loader"].append(
             number(err, r"total startup time in dynamic loader: ([0-9]+) "
                    r"cycles") / tsc_hz() * 1e3)
-        parts["version"].append(run_once([ldaec, "--version"])[0] * 1e3)
-        parts["whole"].append(run_once(base)[0] * 1e3)
+        # CPU time for the two whole processes: on a loaded machine their
+        # wall time also counts waiting to be scheduled.
+        parts["version"].append(run_once([ldaec, "--version"])[1] * 1e3)
+        parts["whole"].append(run_once(base)[1] * 1e3)
     med = {k: statistics.median(v) for k, v in parts.items()}
     rest = med["whole"] - med["version"] - sum(
         med[k] for k in ("frontend", "passes", "codegen", "run"))
-    lines = ["| part of `--jit auto` | wall median (ms) |", "|---|---:|",
+    lines = ["| part of `--jit auto` | median (ms) |", "|---|---:|",
              "| dynamic loader (LD_DEBUG=statistics) | %.2f |" % med["loader"],
              "| process start-up and exit, loader included (`ldaec "
-             "--version`) | %.2f |" % med["version"]]
+             "--version`, CPU) | %.2f |" % med["version"]]
     for k, label in (("frontend", "frontend: read, parse, flatten"),
                      ("passes", "passes"), ("codegen", "codegen"),
                      ("run", "simulation (--stats wall time)")):
         lines.append("| %s | %.2f |" % (label, med[k]))
     lines.append("| the rest (CSV, freeing) | %.2f |" % rest)
-    lines.append("| whole process | %.2f |" % med["whole"])
+    lines.append("| whole process (CPU) | %.2f |" % med["whole"])
+    return lines
+
+
+# Inclusive instruction counts callgrind_annotate prints for the parts of a
+# run, by function; the static initializers and exit handlers are what runs
+# below main in the executable but outside main.
+PROFILE_PARTS = [
+    ("dynamic loader", r"rtld\.c:_dl_start "),
+    ("frontend: read, parse, flatten", r"frontend::compileFile\("),
+    ("passes", r"passes::runPipeline\("),
+    ("codegen (plan, interpreter tables)", r"codegen::compile\("),
+    ("simulation", r"runtime::simulate\("),
+    ("CSV", r"runtime::writeCsv\(ldae::runtime::SimResult const&, std::__cxx11"),
+]
+
+
+def profile(ldaec, cpu_ms):
+    """Instructions of each part of one `--jit auto` run under callgrind
+    (exact and independent of the machine's load), and the CPU time they
+    stand for at the measured median."""
+    out = os.path.join(os.environ.get("TMPDIR", "/tmp"),
+                       "ldaec-startup.%d.callgrind" % os.getpid())
+    subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" +
+                    out, ldaec, PENDULUM, "--simulate", "-o", os.devnull,
+                    "--no-progress"], capture_output=True, check=True)
+    text = subprocess.run(["callgrind_annotate", "--inclusive=yes", out],
+                          capture_output=True, text=True, check=True).stdout
+    os.unlink(out)
+
+    def count(pattern):
+        for line in text.splitlines():
+            m = re.match(r"\s*([0-9,]+) \(", line)
+            if m and re.search(pattern, line):
+                return int(m.group(1).replace(",", ""))
+        return 0
+
+    total = count(r"PROGRAM TOTALS")
+    rows = [(label, count(pat)) for label, pat in PROFILE_PARTS]
+    rows.insert(1, ("static initializers and exit (ANTLR's parser tables)",
+                    count(r"\(below main\) \[.*ldaec\]") -
+                    count(r"main\.cpp:main ")))
+    rows.append(("the rest (process set-up, freeing)",
+                 total - sum(n for _, n in rows)))
+    lines = ["| part of `--jit auto` | instructions (millions) | share | "
+             "about (ms of CPU) |", "|---|---:|---:|---:|"]
+    for label, n in rows + [("whole process", total)]:
+        lines.append("| %s | %.1f | %.0f%% | %.1f |" %
+                     (label, n / 1e6, 100.0 * n / total, cpu_ms * n / total))
     return lines
 
 
@@ -194,7 +246,18 @@ def main():
     print("\n".join(out), flush=True)
     part = breakdown(args.ldaec, args.runs)
     print("\n".join(part), flush=True)
-    out += ["", "Where the time of `--jit auto` goes:", ""] + part
+    out += ["", "Where the time of `--jit auto` goes (timed; on a loaded "
+            "machine the stages' wall time and the processes' CPU time do "
+            "not add up exactly):", ""] + part
+    if shutil.which("valgrind") and shutil.which("callgrind_annotate"):
+        cpu = interleaved([[args.ldaec, PENDULUM, "--simulate", "-o",
+                            os.devnull, "--no-progress"]], args.runs)[0][1]
+        part = profile(args.ldaec, cpu)
+        print("\n".join(part), flush=True)
+        out += ["", "The same run counted in instructions (callgrind; the "
+                "loader's count is inflated by valgrind's own preloaded "
+                "libraries, LD_DEBUG's figure above is the real one):", ""]
+        out += part
     if not args.no_sweep:
         out += ["", "The threshold of `--jit auto` (whole process, "
                 "median of %d runs; operations per evaluation as `--stats` "
