@@ -4,6 +4,7 @@ lines as `ldaec --stats`. Standard library only."""
 import argparse
 import os
 import re
+import resource
 import statistics
 import subprocess
 import time
@@ -36,14 +37,24 @@ def integration_time(text):
 def run(cmd, timeout=3600):
     """Runs `cmd`; (stdout, stderr, whole process wall time in seconds).
     A failure raises with the end of its stderr."""
+    return run_cpu(cmd, timeout)[:3]
+
+
+def run_cpu(cmd, timeout=3600):
+    """run(), and the child's CPU time (user + system seconds), which a
+    loaded machine disturbs less than the wall time."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True,
                           timeout=timeout)
     seconds = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode != 0:
         raise RuntimeError("%s exited %d:\n%s" % (
             " ".join(cmd), proc.returncode, proc.stderr[-3000:]))
-    return proc.stdout, proc.stderr, seconds
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime -
+                                                before.ru_stime)
+    return proc.stdout, proc.stderr, seconds, cpu
 
 
 def median(values):
