@@ -13,6 +13,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include <cmath>
 #include <fmt/format.h>
 
 namespace ldae::runtime {
@@ -31,11 +32,32 @@ int evalRhs(Data &d, double t, const double *y, double *ydot) {
   return rc;
 }
 
+/// Whether every component is finite.
+bool finite(const double *v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(v[i]))
+      return false;
+  return true;
+}
+
 int rhsFn(sunrealtype t, N_Vector y, N_Vector ydot, void *user) {
   auto *d = static_cast<Data *>(user);
   const double *py = N_VGetArrayPointer(y);
-  return Integrator::callbackStatus(
-      *d, evalRhs(*d, t, py, N_VGetArrayPointer(ydot)), py);
+  double *pf = N_VGetArrayPointer(ydot);
+  int n = d->ev->n();
+  // An overflowing trial point (y' near the largest double) must fail
+  // recoverably: CVODE's step-size control has no guard against NaN, and a
+  // NaN step size loops forever inside CVode.
+  if (!finite(py, n)) {
+    d->nonFinite = true;
+    return 1;
+  }
+  int rc = Integrator::callbackStatus(*d, evalRhs(*d, t, py, pf), py);
+  if (rc == 0 && !finite(pf, n)) {
+    d->nonFinite = true;
+    return 1;
+  }
+  return rc;
 }
 
 /// df/dy = -dF/dy: the model's Jacobian at cj = 0, negated.
@@ -249,10 +271,16 @@ Expected<bool> CvodeIntegrator::setStopTime(double tstop) {
 
 StepStatus CvodeIntegrator::step(double &tret) {
   Impl &I = *impl_;
+  shared_.nonFinite = false;
   int flag = CVode(I.mem, I.tstop, I.y, &tret, CV_ONE_STEP);
   I.ypValid = false;
-  if (flag < 0)
-    return failure(flag);
+  if (flag < 0) {
+    StepStatus st = failure(flag);
+    if (st.failure == FailureKind::Domain && shared_.nonFinite &&
+        shared_.domainRow < 0)
+      st.failure = FailureKind::Overflow;
+    return st;
+  }
   I.t = tret;
   if (flag == CV_ROOT_RETURN) {
     ++I.rootCount;

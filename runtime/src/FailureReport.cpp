@@ -55,6 +55,11 @@ FailureText failureText(FailureKind kind) {
     return {"the step size fell to round-off level",
             "the solution may leave an equation's domain or have a "
             "singularity here; check the start values and parameters"};
+  case FailureKind::Overflow:
+    return {"the solution or its derivative is not finite (beyond the "
+            "largest double)",
+            "the solution grows out of range; check the parameters and the "
+            "start values, or shorten --stop"};
   case FailureKind::Other:
     break;
   }

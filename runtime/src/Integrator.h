@@ -27,6 +27,7 @@ enum class FailureKind {
   RootFunction,    // an event condition could not be evaluated
   NoStart,         // no consistent initial point
   StepCollapsed,   // our own: steps at round-off level while the solver goes on
+  Overflow,        // the trial points or their derivatives were not finite
   Other,
 };
 
@@ -115,6 +116,7 @@ public:
     // CVODE: zeros for f = -F(t, y, 0), and a y' buffer for the roots.
     std::vector<double> zeros, work;
     std::string message;
+    bool nonFinite = false; // a trial point was refused as not finite
   };
 
   /// Translates an ABI status into a SUNDIALS callback return, recording a
