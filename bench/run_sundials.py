@@ -33,7 +33,7 @@ DOC = os.path.join(ROOT, "docs", "benchmarks.md")
 DEBIAN_LIB = "/usr/lib/x86_64-linux-gnu"
 sys.path.insert(0, HERE)
 from benchdoc import write_section  # noqa: E402
-from benchrun import integration_time, machine, median, run, stat  # noqa: E402
+from benchrun import integration_time, machine, median, run, stat, word  # noqa: E402
 
 KERNEL_SIZES = [1000, 25600, 1000000]
 MODELS = [  # (label, model file, N)
@@ -97,10 +97,10 @@ def relink_with_debian(build, prefix):
 
 
 def simulate(ldaec, model, n):
-    """(integration seconds, steps)."""
+    """(integration seconds, steps, integrator)."""
     _, err, _ = run([ldaec, "--no-progress", os.path.join(ROOT, "tests", "models", model),
                      "--simulate", "--stats", "--param", "N=%d" % n, "-o", os.devnull])
-    return integration_time(err), int(stat(err, "steps"))
+    return integration_time(err), int(stat(err, "steps")), word(err, "integrator")
 
 
 def main():
@@ -131,17 +131,17 @@ def main():
     rows = []
     for label, model, n in (QUICK_MODELS if args.quick else MODELS):
         times = {ours: [], theirs: []}
-        steps = {}
+        steps, integrator = {}, {}
         for _ in range(args.repeat):
             for exe in (theirs, ours):
-                t, steps[exe] = simulate(exe, model, n)
+                t, steps[exe], integrator[exe] = simulate(exe, model, n)
                 times[exe].append(t)
         slow, fast = median(times[theirs]), median(times[ours])
         if steps[ours] != steps[theirs]:
             print("note: %s N=%d: %d steps with -O2, %d with Debian's" % (
                 label, n, steps[ours], steps[theirs]))
-        rows.append("| %s | %d | %d | %.3f | %.3f | %.2f |" % (
-            label, n, steps[ours], slow, fast, slow / fast))
+        rows.append("| %s | %d | %s | %d | %.3f | %.3f | %.2f |" % (
+            label, n, integrator[ours], steps[ours], slow, fast, slow / fast))
     models = "\n".join(rows)
 
     section = """## SUNDIALS build
@@ -156,8 +156,8 @@ Serial vector kernels (`bench/sundials_kernels.c`, the generic `N_V*` calls with
 
 ldaec's integration time (wall time less consistent initialization, median of %d interleaved runs): the build's `ldaec` against the same objects linked with Debian's shared libraries:
 
-| model | N | steps | Debian -O0 s | -O2 s | speedup |
-|---|---:|---:|---:|---:|---:|
+| model | N | integrator | steps | Debian -O0 s | -O2 s | speedup |
+|---|---:|---|---:|---:|---:|---:|
 %s
 """ % (machine(), kernels, args.repeat, models)
     write_section(DOC, "SUNDIALS build", section)
