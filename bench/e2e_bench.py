@@ -27,7 +27,10 @@ from benchdoc import write_section
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DOCS = os.path.join(ROOT, "docs")
 EXAMPLE = "/usr/share/doc/libsundials-dev/examples/ida/serial/idaRoberts_dns.c"
-LIBS = ["-lsundials_ida", "-lsundials_nvecserial", "-lsundials_sunlinsoldense",
+# The -O2 SUNDIALS ldaec links (docs/sundials.md), not Debian's -O0 one.
+SUNDIALS = os.environ.get("LDAEC_SUNDIALS_PREFIX", "/opt/ldaec/sundials-6.4.1")
+LIBS = ["-I" + SUNDIALS + "/include", "-L" + SUNDIALS + "/lib",
+        "-lsundials_ida", "-lsundials_nvecserial", "-lsundials_sunlinsoldense",
         "-lsundials_sunmatrixdense", "-lm"]
 ROBERTSON_TIMES = ",".join("%g" % (0.4 * 10**k) for k in range(12))
 LADDER_JIT = [10, 100, 1000, 10**4, 10**5]
