@@ -7,7 +7,12 @@ draw error vs time (log-log, one curve per method) to PNG with a CSV table
 beside it.
 
 Usage: /usr/bin/python3 bench/work_precision.py [--ldaec build/compiler/driver/ldaec]
-           [--out docs] [--models pendulum,robertson] [--methods dd,sga,ode,raw]
+           [--doc | --out DIR] [--models pendulum,robertson]
+           [--methods dd,dd+ida,dd+alg-off,raw]
+A method is `--method M` optionally followed by variants: `+ida`, `+cvode`,
+`+cvode-adams` (--integrator), `+alg-off` (--algebraic-error-test off),
+`+uncausal` (--causalize off). Without --doc or --out the table and chart
+go to a temporary directory (tracked files are rewritten only when asked).
 A run that fails (non-zero exit status) is listed in the table with its
 status and left out of the chart.
 """
@@ -78,9 +83,24 @@ def error(result, reference, floors):
     return worst
 
 
+VARIANTS = {"ida": ["--integrator", "ida"], "cvode": ["--integrator", "cvode"],
+            "cvode-adams": ["--integrator", "cvode-adams"],
+            "alg-off": ["--algebraic-error-test", "off"],
+            "uncausal": ["--causalize", "off"]}
+
+
+def method_args(spec):
+    """`dd+ida+alg-off` -> --method dd --integrator ida --algebraic-error-test off."""
+    method, *variants = spec.split("+")
+    args = ["--method", method]
+    for v in variants:
+        args += VARIANTS[v]
+    return args
+
+
 def run(ldaec, model, method, rtol, extra, tmp):
     out = os.path.join(tmp, "out.csv")
-    cmd = [ldaec, os.path.join(ROOT, model), "--simulate", "--method", method,
+    cmd = [ldaec, os.path.join(ROOT, model), "--simulate"] + method_args(method) + [
            "--rtol", repr(rtol), "--stats", "-o", out] + extra
     t0 = time.perf_counter()
     try:
@@ -100,10 +120,15 @@ def run(ldaec, model, method, rtol, extra, tmp):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--ldaec", default=os.path.join(ROOT, "build", "compiler", "driver", "ldaec"))
-    ap.add_argument("--out", default=os.path.join(ROOT, "docs"))
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--doc", action="store_true",
+                    help="write the tables and charts into docs/")
     ap.add_argument("--models", default="pendulum,robertson")
-    ap.add_argument("--methods", default="dd,sga,ode,raw")
+    ap.add_argument("--methods", default="dd,dd+ida,dd+alg-off,raw")
     args = ap.parse_args()
+    if args.out is None:
+        args.out = (os.path.join(ROOT, "docs") if args.doc
+                    else tempfile.mkdtemp(prefix="work_precision."))
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
