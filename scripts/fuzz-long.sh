@@ -13,11 +13,13 @@ build=build-fuzz
 if [ ! -f $build/build.ninja ]; then
   cmake -S . -B $build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 fi
-cmake --build $build --target ldaec
-# A copy: a rebuild during the run must not replace the binary under it.
+cmake --build $build --target ldaec ldae_jit
+# A copy: a rebuild during the run must not replace the binary under it;
+# the JIT module beside it, where ldaec looks first (docs/codegen.md).
 work=$build/tests/fuzz/long-$seed
 mkdir -p $work
 cp $build/compiler/driver/ldaec $work/ldaec
+cp "$(find $build -name libldae_jit.so | head -1)" $work/
 python3 tests/fuzz/mutate.py --ldaec $work/ldaec \
   --source-dir . --work-dir $work \
   --count "$count" --seed "$seed" --jobs "${JOBS:-2}"
