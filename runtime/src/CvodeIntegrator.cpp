@@ -32,28 +32,17 @@ int evalRhs(Data &d, double t, const double *y, double *ydot) {
   return rc;
 }
 
-/// Whether every component is finite.
-bool finite(const double *v, int n) {
-  for (int i = 0; i < n; ++i)
-    if (!std::isfinite(v[i]))
-      return false;
-  return true;
-}
-
 int rhsFn(sunrealtype t, N_Vector y, N_Vector ydot, void *user) {
   auto *d = static_cast<Data *>(user);
   const double *py = N_VGetArrayPointer(y);
   double *pf = N_VGetArrayPointer(ydot);
   int n = d->ev->n();
-  // An overflowing trial point (y' near the largest double) must fail
-  // recoverably: CVODE's step-size control has no guard against NaN, and a
-  // NaN step size loops forever inside CVode.
-  if (!finite(py, n)) {
+  if (!Integrator::finite(py, n)) {
     d->nonFinite = true;
     return 1;
   }
   int rc = Integrator::callbackStatus(*d, evalRhs(*d, t, py, pf), py);
-  if (rc == 0 && !finite(pf, n)) {
+  if (rc == 0 && !Integrator::finite(pf, n)) {
     d->nonFinite = true;
     return 1;
   }

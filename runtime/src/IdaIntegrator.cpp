@@ -22,9 +22,20 @@ using Data = Integrator::CallbackData;
 
 int residualFn(sunrealtype t, N_Vector y, N_Vector yp, N_Vector r, void *user) {
   auto *d = static_cast<Data *>(user);
-  int rc = d->ev->residual(d->set, t, N_VGetArrayPointer(y),
-                           N_VGetArrayPointer(yp), N_VGetArrayPointer(r));
-  return Integrator::callbackStatus(*d, rc, N_VGetArrayPointer(y));
+  int n = d->ev->n();
+  const double *py = N_VGetArrayPointer(y), *pyp = N_VGetArrayPointer(yp);
+  double *pr = N_VGetArrayPointer(r);
+  if (!Integrator::finite(py, n) || !Integrator::finite(pyp, n)) {
+    d->nonFinite = true;
+    return 1;
+  }
+  int rc = Integrator::callbackStatus(
+      *d, d->ev->residual(d->set, t, py, pyp, pr), py);
+  if (rc == 0 && !Integrator::finite(pr, n)) {
+    d->nonFinite = true;
+    return 1;
+  }
+  return rc;
 }
 
 int denseJacFn(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp,
@@ -278,9 +289,15 @@ Expected<bool> IdaIntegrator::setStopTime(double tstop) {
 
 StepStatus IdaIntegrator::step(double &tret) {
   Impl &I = *impl_;
+  shared_.nonFinite = false;
   int flag = IDASolve(I.mem, I.tstop, &tret, I.y, I.yp, IDA_ONE_STEP);
-  if (flag < 0)
-    return failure(flag);
+  if (flag < 0) {
+    StepStatus st = failure(flag);
+    if (st.failure == FailureKind::Domain && shared_.nonFinite &&
+        shared_.domainRow < 0)
+      st.failure = FailureKind::Overflow;
+    return st;
+  }
   if (flag == IDA_ROOT_RETURN) {
     ++I.rootCount;
     return {StepStatus::Root};

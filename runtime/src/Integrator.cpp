@@ -4,6 +4,8 @@
 #include "CvodeIntegrator.h"
 #include "IdaIntegrator.h"
 
+#include <cmath>
+
 namespace ldae::runtime {
 
 int Integrator::callbackStatus(CallbackData &d, int rc, const double *y) {
@@ -13,6 +15,13 @@ int Integrator::callbackStatus(CallbackData &d, int rc, const double *y) {
     return 1;
   }
   return rc < 0 ? -1 : 0;
+}
+
+bool Integrator::finite(const double *v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(v[i]))
+      return false;
+  return true;
 }
 
 Expected<std::unique_ptr<Integrator>> makeIntegrator(const ModelEval &ev,

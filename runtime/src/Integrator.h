@@ -123,6 +123,10 @@ public:
   /// domain error (rc > 0: recoverable, the solver retries with a smaller
   /// step; the failure report names the row).
   static int callbackStatus(CallbackData &d, int rc, const double *y);
+  /// Whether v[0..n) is finite: a trial point that is not (overflow) must
+  /// fail recoverably, for the solvers' step-size control has no guard
+  /// against NaN and a NaN step size loops forever inside a solver call.
+  static bool finite(const double *v, int n);
 
 protected:
   const ModelEval &ev_;

@@ -125,6 +125,13 @@ private:
   std::vector<double> out_, drift_;
 };
 
+/// The most steps between two output times (of the interval grid, also
+/// with --every-step or explicit times): a solution that blows up or
+/// oscillates ever faster would otherwise step for ever (the solvers'
+/// own limit, mxstep, counts steps per solver call, and each of our calls
+/// is one step). SUNDIALS' own default is 500 per output.
+constexpr long kMaxStepsPerOutput = 100000;
+
 /// Above this many unknowns the general initialization (dense Wong
 /// sequences and least squares on n x 2n matrices, O(n^3)) would need hours
 /// and gigabytes; it fails with a message instead.
@@ -491,6 +498,8 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   Progress progress(o.progress, s.start, s.stop);
   double t = s.start;
   int tinySteps = 0; // consecutive steps at round-off level
+  long stepsSinceOutput = 0;
+  long kWork = 1; // next output time for the step limit
   std::vector<double> yAt(m.n), ypAt(m.n);
   if (auto target = ida.setStopTime(s.stop); !target) {
     res.failure = describeSolverError(s.start, target.error());
@@ -504,6 +513,13 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
       tinySteps = 0;
     if (tinySteps > 20)
       st = StepStatus::failed(FailureKind::StepCollapsed, "step size collapse");
+    if (st.ok() && ++stepsSinceOutput > kMaxStepsPerOutput)
+      st = StepStatus::failed(
+          FailureKind::TooMuchWork,
+          fmt::format("more than {} steps between output times",
+                      kMaxStepsPerOutput));
+    for (; kWork <= nOut && gridTime(kWork) <= t; ++kWork)
+      stepsSinceOutput = 0;
     if (!st.ok()) {
       res.failure = describeFailure(ev, ida, st, ida.currentTime());
       break;
