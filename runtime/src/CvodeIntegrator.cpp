@@ -264,11 +264,7 @@ StepStatus CvodeIntegrator::step(double &tret) {
   int flag = CVode(I.mem, I.tstop, I.y, &tret, CV_ONE_STEP);
   I.ypValid = false;
   if (flag < 0) {
-    StepStatus st = failure(flag);
-    if (st.failure == FailureKind::Domain && shared_.nonFinite &&
-        shared_.domainRow < 0)
-      st.failure = FailureKind::Overflow;
-    return st;
+    return overflowAware(failure(flag));
   }
   I.t = tret;
   if (flag == CV_ROOT_RETURN) {

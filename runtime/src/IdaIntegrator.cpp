@@ -292,11 +292,7 @@ StepStatus IdaIntegrator::step(double &tret) {
   shared_.nonFinite = false;
   int flag = IDASolve(I.mem, I.tstop, &tret, I.y, I.yp, IDA_ONE_STEP);
   if (flag < 0) {
-    StepStatus st = failure(flag);
-    if (st.failure == FailureKind::Domain && shared_.nonFinite &&
-        shared_.domainRow < 0)
-      st.failure = FailureKind::Overflow;
-    return st;
+    return overflowAware(failure(flag));
   }
   if (flag == IDA_ROOT_RETURN) {
     ++I.rootCount;

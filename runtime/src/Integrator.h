@@ -129,6 +129,15 @@ public:
   static bool finite(const double *v, int n);
 
 protected:
+  /// A domain failure caused by a refused non-finite trial point is an
+  /// overflow, not an equation leaving its domain.
+  StepStatus overflowAware(StepStatus st) const {
+    if (st.failure == FailureKind::Domain && shared_.nonFinite &&
+        shared_.domainRow < 0)
+      st.failure = FailureKind::Overflow;
+    return st;
+  }
+
   const ModelEval &ev_;
   CallbackData shared_;
   bool sparse_ = false;
