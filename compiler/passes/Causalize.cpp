@@ -55,6 +55,11 @@ struct Assignment {
   ir::ExprRef coefficient; // ∂row/∂unknown
 };
 
+/// A VarKey as one integer, for hash sets and maps of keys.
+uint64_t code(ir::VarKey k) {
+  return (static_cast<uint64_t>(k.var) << 16) | k.order;
+}
+
 class Causalizer {
 public:
   Causalizer(ir::DaeSystem &sys, const SourceManager *sources,
@@ -364,9 +369,6 @@ void Causalizer::run() {
 // another derivative (y = der(x) + 1 in der(z) = y): the form stays a DAE.
 bool Causalizer::explicitOdeForm() {
   const int n = static_cast<int>(sys_.unknowns.size());
-  auto code = [](ir::VarKey k) {
-    return (static_cast<uint64_t>(k.var) << 16) | k.order;
-  };
   std::unordered_map<uint64_t, int> derivativeOf;
   for (int u = 0; u < n; ++u)
     derivativeOf[code(derivativeKey(u))] = u;
@@ -412,9 +414,6 @@ bool Causalizer::explicitOdeForm() {
 bool Causalizer::rebuild() {
   ir::Substitution subst(ctx_);
   std::unordered_set<uint64_t> removed;
-  auto code = [](ir::VarKey k) {
-    return (static_cast<uint64_t>(k.var) << 16) | k.order;
-  };
   const ir::StateSet &set0 = sys_.stateSets[0];
   for (const Assignment &a : assignments_) {
     ir::VarKey k = key(a.unknown);

@@ -24,7 +24,7 @@ using Data = Integrator::CallbackData;
 
 /// f(t, y) = -F(t, y, 0): row i of an explicit ODE's residual is
 /// y'[i] - f_i(t, y).
-int evalRhs(Data &d, double t, const double *y, double *ydot) {
+int evalRhs(const Data &d, double t, const double *y, double *ydot) {
   int rc = d.ev->residual(d.set, t, y, d.zeros.data(), ydot);
   if (rc == 0)
     for (int i = 0; i < d.ev->n(); ++i)
@@ -296,8 +296,7 @@ const double *CvodeIntegrator::y() const {
 const double *CvodeIntegrator::yp() const {
   Impl &I = *impl_;
   if (!I.ypValid) {
-    auto &d = const_cast<CallbackData &>(shared_);
-    if (evalRhs(d, I.t, N_VGetArrayPointer(I.y), I.yp.data()) != 0)
+    if (evalRhs(shared_, I.t, N_VGetArrayPointer(I.y), I.yp.data()) != 0)
       std::fill(I.yp.begin(), I.yp.end(), 0.0);
     I.ypValid = true;
   }

@@ -494,12 +494,11 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   // over are interpolated from the last step's polynomial (computed
   // variables are evaluated there by the outputs function). A stop time
   // per output would cost steps and Jacobian refreshes (docs/runtime.md).
-  long k = 1; // next output time
+  long k = 1; // next output time (of the grid, also with --every-step)
   Progress progress(o.progress, s.start, s.stop);
   double t = s.start;
   int tinySteps = 0; // consecutive steps at round-off level
   long stepsSinceOutput = 0;
-  long kWork = 1; // next output time for the step limit
   std::vector<double> yAt(m.n), ypAt(m.n);
   if (auto target = ida.setStopTime(s.stop); !target) {
     res.failure = describeSolverError(s.start, target.error());
@@ -518,30 +517,27 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
           FailureKind::TooMuchWork,
           fmt::format("more than {} steps between output times",
                       kMaxStepsPerOutput));
-    for (; kWork <= nOut && gridTime(kWork) <= t; ++kWork)
-      stepsSinceOutput = 0;
     if (!st.ok()) {
       res.failure = describeFailure(ev, ida, st, ida.currentTime());
       break;
     }
-    bool recorded = true;
-    if (o.everyStep) {
-      recorded = rec.record(t, ida.y(), ida.yp());
-    } else {
-      for (; recorded && k <= nOut && gridTime(k) <= t; ++k) {
-        double tk = gridTime(k);
-        if (tk == t) {
-          recorded = rec.record(t, ida.y(), ida.yp());
-          continue;
-        }
-        auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
-        if (!at) {
-          res.failure = describeSolverError(tk, at.error());
-          recorded = false;
-          break;
-        }
-        recorded = rec.record(tk, yAt.data(), ypAt.data());
+    bool recorded = !o.everyStep || rec.record(t, ida.y(), ida.yp());
+    for (; recorded && k <= nOut && gridTime(k) <= t; ++k) {
+      stepsSinceOutput = 0;
+      double tk = gridTime(k);
+      if (o.everyStep)
+        continue;
+      if (tk == t) {
+        recorded = rec.record(t, ida.y(), ida.yp());
+        continue;
       }
+      auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
+      if (!at) {
+        res.failure = describeSolverError(tk, at.error());
+        recorded = false;
+        break;
+      }
+      recorded = rec.record(tk, yAt.data(), ypAt.data());
     }
     if (!recorded)
       break;
