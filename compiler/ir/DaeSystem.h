@@ -79,6 +79,15 @@ struct DaeSystem {
   /// Row i of the only state set is der(unknown i) - f_i(t, y) (the causal
   /// form "ODE"; ldae_model::explicit_ode).
   bool explicitOde = false;
+  /// `--method sga|ode`: the SGA's vector field on P_f. Every unknown is
+  /// differential; stateSets[0] (the only set) has n rows linear in y',
+  /// A(t, y) y' - alpha(t, y), with dF/dy' nonsingular on P_f; and
+  /// `constraints` holds every constraint generation (over t and y only).
+  /// The runtime integrates y' = A^-1 alpha with CVODE.
+  bool linearlyImplicit = false;
+  /// With linearlyImplicit: project onto `constraints` after each step
+  /// (sga); false shows the drift (ode).
+  bool projectOntoConstraints = false;
   /// The differential index of the system as handed to the integrator: 1
   /// when reduced, the model's own under `--method raw`.
   int index = 1;

@@ -16,6 +16,7 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ldae::passes {
@@ -66,6 +67,50 @@ struct InitReport {
   bool consistent = true;
 };
 
+/// One constraint the SGA found: the expression (lsd text, over the
+/// unknowns and time) and the model equations it was derived from.
+struct SgaConstraint {
+  std::string expr;
+  std::vector<std::string> from; // equation texts as the user wrote them
+};
+
+/// The geometric algorithm's verdict (seed 000 §3, seed 001 §3-4).
+struct SgaReport {
+  enum class Outcome { Unique, NotUnique, NoSolution };
+  Outcome outcome = Outcome::Unique;
+  /// dim P_f: unknowns (first-order form) minus independent constraints.
+  int dof = 0;
+  /// Derivatives the tangency conditions leave free (gauge freedom).
+  int freeFunctions = 0;
+  /// Constraint generations: [0] primary, [1] secondary, ...
+  std::vector<std::vector<SgaConstraint>> generations;
+  /// Variables whose evolution the model leaves free (gauge freedom).
+  std::vector<std::string> undetermined;
+  /// Equations implied by the others on P_f (over-determined, consistent).
+  std::vector<std::string> redundant;
+  /// For no_solution: the constraint that cannot hold, and its sources.
+  std::optional<SgaConstraint> conflict;
+  /// Steps of the algorithm until no new constraint appeared.
+  int steps = 0;
+  /// The point of a zero-dimensional P_f (name = value), when dof == 0.
+  std::vector<std::pair<std::string, double>> point;
+};
+
+/// The Wong-sequence analysis of a linear model E x' = F x + f(t)
+/// (seed 002), when the model (or its linear part) is linear with
+/// constant coefficients.
+struct LinearReport {
+  bool regular = false;
+  int index = 0;
+  int dimV = 0;
+  int dimW = 0;
+  /// Not well-posed: the free directions (combinations of variables) of a
+  /// singular pencil, as text.
+  std::vector<std::string> freeDirections;
+  /// Inconsistent inputs: why.
+  std::string conflict;
+};
+
 struct PassTiming {
   std::string name;
   double seconds = 0;
@@ -94,6 +139,12 @@ struct AnalysisResult {
   std::vector<StateSetReport> stateSets;
   CausalResult causal;
   InitReport init;
+  /// The SGA's verdict (the "sga" pass), when it ran.
+  std::optional<SgaReport> sga;
+  /// Wong sequences of the linear model, when it is linear.
+  std::optional<LinearReport> linear;
+  /// Le Vey's formal index of the system as written (seed 004).
+  std::optional<int> formalIndex;
   std::vector<PassTiming> timings;
   std::optional<ir::DaeSystem> system;
 };
