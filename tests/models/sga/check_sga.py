@@ -20,7 +20,9 @@ The `*-simulate` and `*-sga` cases run --simulate where the issue asks
 for it: the equilibrium of the zero-dimensional P_f held (and any other
 start refused), the parallelogram with its redundant equation, and seed
 001's pendulum with --method sga against the polar form's reference
-(../reference/pendulum_var_ref.csv: the paper's reduced vector field).
+(../reference/pendulum_var_ref.csv: the paper's reduced vector field);
+the `*-why` cases check that --simulate refuses a model without a unique
+solution with the SGA's reason.
 Exit 1 on a failed check.
 """
 import json
@@ -118,7 +120,7 @@ class Case:
                  overrides=None, dof=None, free=None, gens=None,
                  gen1_from=None, undetermined=None, index=None,
                  redundant=None, conflict_from=None, point=None,
-                 sample=None):
+                 steps=None, sample=None):
         self.file = file
         self.model = model
         self.outcome = outcome
@@ -136,6 +138,7 @@ class Case:
         self.redundant = redundant
         self.conflict_from = conflict_from
         self.point = point
+        self.steps = steps          # sga_steps: the step that ends it
         self.sample = sample        # rng, params -> a point of P_f
 
 
@@ -333,7 +336,7 @@ CASES = {
               ["vx^2 + vy^2 - tau*%s^2 - g*y - (%s*%s + %s^2)"
                % (PVL_R, PVL_R, PVL_RDD, PVL_RD)]],
         gen1_from=["x^2 + y^2 = (L0 * (1 + eps * sin(w * time)))^2"],
-        undetermined=[], index=3, sample=pvl_point),
+        undetermined=[], index=3, steps=4, sample=pvl_point),
     # structure fooled by cancellation
     "cancel-not-unique": Case(
         "cancellation.lsd", "CancelNotUnique", "not_unique", ["x", "y"],
@@ -526,6 +529,15 @@ def check_case(ldaec, name):
         got = report.get("differentiation_index")
         c.expect(got == case.index, "differentiation_index %r, expected %d"
                  % (got, case.index))
+    if case.steps is not None:
+        got = report.get("sga_steps")
+        c.expect(got == case.steps, "sga_steps %r, expected %d"
+                 % (got, case.steps))
+    linear = report.get("linear")
+    if case.outcome == "unique" and isinstance(linear, dict):
+        # Wong sequences and the SGA agree on linear models: dim V = dim P_f.
+        c.expect(linear.get("dim_V") == case.dof, "linear.dim_V %r, dim P_f "
+                 "%r" % (linear.get("dim_V"), case.dof))
     if case.gens is not None:
         check_constraints(case, report, c)
     if case.redundant is not None:
@@ -599,11 +611,31 @@ def pendulum_variable_length_sga(c):
                  % worst)
 
 
+def why_not(name):
+    """--simulate on a model without a unique solution exits 1 with the
+    SGA's reason: the free functions, or the constraint that cannot
+    hold."""
+    case = CASES[name]
+
+    def check(c):
+        args = [os.path.join(HERE, case.file), "--model", case.model]
+        for key, value in case.overrides.items():
+            args += ["--param", "%s=%r" % (key, value)]
+        rc, _, err = simulate(c, args)
+        reason = "no solution" if case.outcome == "no_solution" \
+            else "free function"
+        c.expect(rc == 1 and reason in err, "--simulate exited %d without "
+                 "saying '%s': %s" % (rc, reason, err[-600:]))
+    return check
+
+
 SIMULATIONS = {
     "control-point-simulate": control_point_simulate,
     "parallelogram-simulate": parallelogram_simulate,
     "pendulum-variable-length-sga": pendulum_variable_length_sga,
 }
+SIMULATIONS.update({name + "-why": why_not(name) for name, case in
+                    CASES.items() if case.outcome != "unique"})
 LDAEC = []
 
 
