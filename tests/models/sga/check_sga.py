@@ -141,6 +141,13 @@ class Case:
         self.steps = steps          # sga_steps: the step that ends it
         self.sample = sample        # rng, params -> a point of P_f
 
+    def args(self):
+        """ldaec's arguments naming the model and the case's parameters."""
+        out = [os.path.join(HERE, self.file), "--model", self.model]
+        for key, value in self.overrides.items():
+            out += ["--param", "%s=%r" % (key, value)]
+        return out
+
 
 def uniform(rng, lo, hi):
     return rng.uniform(lo, hi)
@@ -493,10 +500,7 @@ def check_constraints(case, report, c):
 def check_case(ldaec, name):
     case = CASES[name]
     c = Checker(name)
-    cmd = [ldaec, os.path.join(HERE, case.file), "--model", case.model,
-           "--analyze", "--json"]
-    for key, value in case.overrides.items():
-        cmd += ["--param", "%s=%r" % (key, value)]
+    cmd = [ldaec] + case.args() + ["--analyze", "--json"]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     # A model without a unique solution may make --analyze fail, after its
     # report.
@@ -563,7 +567,7 @@ def check_case(ldaec, name):
     return c
 
 
-def simulate(c, args):
+def simulate(args):
     """Runs ldaec --simulate; (exit status, CSV rows, stderr)."""
     cmd = [LDAEC[0], "--no-progress", "--simulate"] + args
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
@@ -573,19 +577,19 @@ def simulate(c, args):
 
 def control_point_simulate(c):
     model = os.path.join(HERE, "control_linear.lsd")
-    rc, rows, err = simulate(c, [model, "--param", "A22=0", "--stop", "1",
+    rc, rows, err = simulate([model, "--param", "A22=0", "--stop", "1",
                                  "--interval", "0.25"])
     if c.expect(rc == 0 and len(rows) == 5, "the equilibrium (1, 0.5) did "
                 "not run: exit %d, %d rows: %s" % (rc, len(rows), err[-800:])):
         worst = max(max(abs(r["x1"] - 1), abs(r["x2"] - 0.5)) for r in rows)
         c.expect(worst <= 1e-9, "the equilibrium moved by %.2e" % worst)
-    rc, _, err = simulate(c, [model, "--param", "A22=0", "--param", "x10=2"])
+    rc, _, err = simulate([model, "--param", "A22=0", "--param", "x10=2"])
     c.expect(rc != 0 and "x1" in err, "x1 = 2 is no point of P_f, yet "
              "--simulate exited %d (%s)" % (rc, err[-400:]))
 
 
 def parallelogram_simulate(c):
-    rc, rows, err = simulate(c, [os.path.join(HERE, "parallelogram.lsd"),
+    rc, rows, err = simulate([os.path.join(HERE, "parallelogram.lsd"),
                                  "--stop", "2", "--interval", "0.5"])
     if c.expect(rc == 0 and len(rows) == 5, "exit %d, %d rows: %s"
                 % (rc, len(rows), err[-800:])):
@@ -597,7 +601,7 @@ def parallelogram_simulate(c):
 
 def pendulum_variable_length_sga(c):
     ref = read_ref("pendulum_var_ref.csv")
-    rc, rows, err = simulate(c, [
+    rc, rows, err = simulate([
         os.path.join(HERE, "pendulum_variable_length.lsd"), "--method", "sga",
         "--rtol", "1e-9", "--outputs", "x,y"])
     if not c.expect(rc == 0, "exit %d: %s" % (rc, err[-800:])):
@@ -618,10 +622,7 @@ def why_not(name):
     case = CASES[name]
 
     def check(c):
-        args = [os.path.join(HERE, case.file), "--model", case.model]
-        for key, value in case.overrides.items():
-            args += ["--param", "%s=%r" % (key, value)]
-        rc, _, err = simulate(c, args)
+        rc, _, err = simulate(case.args())
         reason = "no solution" if case.outcome == "no_solution" \
             else "free function"
         c.expect(rc == 1 and reason in err, "--simulate exited %d without "
