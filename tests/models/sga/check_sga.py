@@ -157,6 +157,10 @@ CONTROL = dict(A11=-1, A12=1, A21=1, A22=2, u1=0.5, u2=-1)
 CONTROL_EQ1 = "der(x1) = A11 * x1 + A12 * x2 + u1"
 CONTROL_EQ2 = "0 = A21 * x1 + A22 * x2 + u2"
 
+GENERAL = dict(b12=0, k11=1, k12=0, k21=0, k22=1, c1=0, c2=0)
+GENERAL_RANK_1 = dict(k12=1, k21=1, c2=1)
+GENERAL_VARS = ["x1", "x2", "x3", "x4"]
+
 ROBOT = dict(l=1, m0=1, m1=2, m2=1.5, m=0.5, R=0.1)
 ROBOT["I"] = (ROBOT["m"] + ROBOT["m0"] + (ROBOT["m1"] + ROBOT["m2"]) / 3) \
     * ROBOT["l"] ** 2
@@ -303,6 +307,34 @@ CASES = {
         gen1_from=[CONTROL_EQ2], undetermined=[], index=2,
         point=dict(x1=1.0, x2=0.5),
         sample=lambda rng, p: dict(x1=1.0, x2=0.5, time=0.0)),
+    # seed 000 §6 Example 1, the general situation (n = 4, dim ker T = 2)
+    "general-rank-2": Case(
+        "control_general.lsd", "ControlGeneral", "unique", GENERAL_VARS,
+        params=GENERAL, dof=2, free=0, gens=[["x3", "x4"]],
+        undetermined=[], index=1,
+        sample=lambda rng, p: dict(x1=uniform(rng, -2, 2),
+                                   x2=uniform(rng, -2, 2), x3=0.0, x4=0.0,
+                                   time=0.0)),
+    "general-rank-1": Case(
+        "control_general.lsd", "ControlGeneral", "not_unique",
+        GENERAL_VARS, params=GENERAL, overrides=GENERAL_RANK_1, dof=2,
+        free=1, gens=[["x3 + x4", "x3 + x4 + x1"]],
+        undetermined=["x3", "x4"],
+        sample=lambda rng, p: dict(x1=0.0, x2=uniform(rng, -2, 2),
+                                   x4=(x4 := uniform(rng, -2, 2)), x3=-x4,
+                                   time=0.0)),
+    "general-rank-1-new": Case(
+        "control_general.lsd", "ControlGeneral", "not_unique",
+        GENERAL_VARS, params=GENERAL, overrides=dict(GENERAL_RANK_1, b12=1),
+        dof=1, free=1, gens=[["x3 + x4", "x3 + x4 + x1"], ["x2"]],
+        undetermined=["x3", "x4"],
+        sample=lambda rng, p: dict(x1=0.0, x2=0.0,
+                                   x4=(x4 := uniform(rng, -2, 2)), x3=-x4,
+                                   time=0.0)),
+    "general-rank-0": Case(
+        "control_general.lsd", "ControlGeneral", "not_unique",
+        GENERAL_VARS, params=GENERAL, overrides=dict(k11=0, k22=0), dof=4,
+        free=2, gens=[], undetermined=["x3", "x4"]),
     # seed 000 §6 Example 2: the telescopic robot arm, sliding control
     "robot-arm-tracking": Case(
         "robot_arm.lsd", "RobotArmTracking", "not_unique", ROBOT_VARS,
