@@ -159,6 +159,7 @@ CONTROL_EQ2 = "0 = A21 * x1 + A22 * x2 + u2"
 
 GENERAL = dict(b12=0, k11=1, k12=0, k21=0, k22=1, c1=0, c2=0)
 GENERAL_RANK_1 = dict(k12=1, k21=1, c2=1)
+GENERAL_ONE = dict(k22=0)  # with the defaults k21 = c2 = 0: xi2 = 0
 GENERAL_VARS = ["x1", "x2", "x3", "x4"]
 
 ROBOT = dict(l=1, m0=1, m1=2, m2=1.5, m=0.5, R=0.1)
@@ -331,6 +332,38 @@ CASES = {
         sample=lambda rng, p: dict(x1=0.0, x2=0.0,
                                    x4=(x4 := uniform(rng, -2, 2)), x3=-x4,
                                    time=0.0)),
+    "general-one-2a": Case(
+        "control_general.lsd", "ControlGeneral", "not_unique",
+        GENERAL_VARS, params=GENERAL, overrides=dict(GENERAL_ONE, k12=1),
+        dof=3, free=1, gens=[["x3 + x4"]], undetermined=["x3", "x4"],
+        sample=lambda rng, p: dict(x1=uniform(rng, -2, 2),
+                                   x2=uniform(rng, -2, 2),
+                                   x4=(x4 := uniform(rng, -2, 2)), x3=-x4,
+                                   time=0.0)),
+    "general-one-2b": Case(
+        "control_general.lsd", "ControlGeneral", "not_unique",
+        GENERAL_VARS, params=GENERAL,
+        overrides=dict(GENERAL_ONE, k11=0, k12=1), dof=3, free=1,
+        gens=[["x4"]], undetermined=["x3"],
+        sample=lambda rng, p: dict(x1=uniform(rng, -2, 2),
+                                   x2=uniform(rng, -2, 2),
+                                   x3=uniform(rng, -2, 2), x4=0.0,
+                                   time=0.0)),
+    "general-one-2ci": Case(
+        "control_general.lsd", "ControlGeneral", "not_unique",
+        GENERAL_VARS, params=GENERAL,
+        overrides=dict(GENERAL_ONE, k11=0, c1=1), dof=3, free=2,
+        gens=[["x2"]], undetermined=["x3", "x4"],
+        sample=lambda rng, p: dict(x1=uniform(rng, -2, 2), x2=0.0,
+                                   x3=uniform(rng, -2, 2),
+                                   x4=uniform(rng, -2, 2), time=0.0)),
+    "general-one-2cii": Case(
+        "control_general.lsd", "ControlGeneral", "not_unique",
+        GENERAL_VARS, params=GENERAL,
+        overrides=dict(k11=0, k22=0, c2=1, b12=1), dof=2, free=2,
+        gens=[["x1"], ["x2"]], undetermined=["x3", "x4"],
+        sample=lambda rng, p: dict(x1=0.0, x2=0.0, x3=uniform(rng, -2, 2),
+                                   x4=uniform(rng, -2, 2), time=0.0)),
     "general-rank-0": Case(
         "control_general.lsd", "ControlGeneral", "not_unique",
         GENERAL_VARS, params=GENERAL, overrides=dict(k11=0, k22=0), dof=4,
