@@ -68,16 +68,19 @@ def machine():
         os.getloadavg()[0], os.cpu_count())
 
 
-def parse_args(doc, root, sizes=None, repeat=3):
+def parse_args(doc, root, sizes=None, repeat=3, extra=None):
     """The options every side-by-side script takes: --build (the build
     directory, default build/), --sizes when it has sizes, --repeat,
-    --doc. Sets args.build (absolute) and args.ldaec."""
+    --doc, and the script's own (`extra(parser)` adds them). Sets
+    args.build (absolute) and args.ldaec."""
     ap = argparse.ArgumentParser(description=doc.split("\n")[0])
     ap.add_argument("--build", default=os.path.join(root, "build"))
     if sizes:
         ap.add_argument("--sizes", default=sizes)
     ap.add_argument("--repeat", type=int, default=repeat)
     ap.add_argument("--doc", action="store_true")
+    if extra:
+        extra(ap)
     args = ap.parse_args()
     args.build = os.path.abspath(args.build)
     args.ldaec = os.path.join(args.build, "compiler", "driver", "ldaec")
