@@ -604,10 +604,15 @@ def check_case(ldaec, name):
         c.expect(got == case.steps, "sga_steps %r, expected %d"
                  % (got, case.steps))
     linear = report.get("linear")
-    if case.outcome == "unique" and isinstance(linear, dict):
-        # Wong sequences and the SGA agree on linear models: dim V = dim P_f.
+    if case.dof is not None and isinstance(linear, dict):
+        # Wong sequences and the SGA agree on linear models (seed 002):
+        # dim V = dim P_f, and the pencil is regular iff the solution is
+        # unique.
         c.expect(linear.get("dim_V") == case.dof, "linear.dim_V %r, dim P_f "
                  "%r" % (linear.get("dim_V"), case.dof))
+        c.expect(linear.get("regular") == (case.outcome == "unique"),
+                 "linear.regular %r for a %s solution"
+                 % (linear.get("regular"), case.outcome))
     if case.gens is not None:
         check_constraints(case, report, c)
     if case.redundant is not None:
