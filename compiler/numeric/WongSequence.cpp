@@ -126,6 +126,21 @@ WongResult wongSequences(const MatrixXd &E, const MatrixXd &F, double tol) {
   return r;
 }
 
+MatrixXd leftPolynomialKernel(const MatrixXd &E, const MatrixXd &F,
+                              int degree, double tol) {
+  // Coefficient of s^j in sum_k s^k w_k^T (sE - F), transposed:
+  // E^T w_{j-1} - F^T w_j = 0 for j = 0..degree+1.
+  const Index m = E.rows(), n = E.cols(), d = degree;
+  MatrixXd k = MatrixXd::Zero(n * (d + 2), m * (d + 1));
+  for (Index j = 0; j <= d + 1; ++j) {
+    if (j >= 1)
+      k.block(j * n, (j - 1) * m, n, m) = E.transpose();
+    if (j <= d)
+      k.block(j * n, j * m, n, m) = -F.transpose();
+  }
+  return nullBasis(k, absTol(E, F, tol));
+}
+
 Eigen::VectorXd projectAlong(const WongResult &w, const Eigen::VectorXd &x) {
   assert(w.regular);
   Index n = x.size();

@@ -50,4 +50,14 @@ Eigen::MatrixXd jumpSpace(const Eigen::MatrixXd &E, const Eigen::MatrixXd &F,
 /// (t in T) that lies in V.
 Eigen::VectorXd projectAlong(const WongResult &w, const Eigen::VectorXd &x);
 
+/// The polynomial left kernel of the pencil up to degree `degree`: the
+/// w(s) = w_0 + w_1 s + ... + w_d s^d with w(s)^T (sE - F) = 0, each
+/// column stacking w_0..w_d (rows(E) * (degree + 1) rows). Such a w says
+/// that the equations E x' = F x + f(t) combined as sum_k w_k^T d^k/dt^k
+/// leave 0 = sum_k w_k^T f^(k)(t): a condition on the inputs, which a
+/// singular pencil may violate (the "conflict"). `tol` as in wongSequences.
+Eigen::MatrixXd leftPolynomialKernel(const Eigen::MatrixXd &E,
+                                     const Eigen::MatrixXd &F, int degree,
+                                     double tol = 0);
+
 } // namespace ldae::numeric

@@ -141,7 +141,6 @@ bool PantelidesPass::runOn(PassContext &pc, const MatchingResult &mr,
   // Pryce's structural index: the most differentiations, plus one when an
   // unknown stays algebraic (it needs one more to become an ODE).
   pc.report.structuralIndex = s.maxTimes + (anyAlgebraic ? 1 : 0);
-  pc.report.differentiationIndex = pc.report.structuralIndex;
   if (!opts_.reduce) {
     // Hand on the model as written: its equations only, every unknown
     // at its order in the model, so nothing becomes a dummy derivative.

@@ -26,6 +26,9 @@ public:
   DiagnosticEngine &diags;
   const PipelineOptions &opts;
   AnalysisResult &report;
+  /// Set by a pass that has produced the final system by another route
+  /// (sga-check): the passes after it do not run.
+  bool finished = false;
 
   /// Rank of each variable's name (by VarId): equal names rank equal, and
   /// ranks order like the names. Sorting by rank instead of by name

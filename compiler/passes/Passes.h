@@ -25,9 +25,16 @@ struct BltOptions {
   bool allowSingular = false;
 };
 
+std::unique_ptr<Pass> createLinearPencilPass();
 std::unique_ptr<Pass> createAliasEliminationPass();
 std::unique_ptr<Pass> createMatchingPass();
+std::unique_ptr<Pass> createFormalIndexPass();
 std::unique_ptr<Pass> createDmDiagnosisPass();
+/// `always`: run whatever the model's size (the sga and ode methods);
+/// otherwise only up to kSgaCrossCheckLimit coordinates.
+std::unique_ptr<Pass> createSgaPass(bool always = false);
+std::unique_ptr<Pass> createSgaSystemPass();
+std::unique_ptr<Pass> createSgaCheckPass();
 std::unique_ptr<Pass> createPantelidesPass(const PantelidesOptions &opts = {});
 std::unique_ptr<Pass> createDummyDerivativesPass();
 std::unique_ptr<Pass> createBuildSystemPass();

@@ -53,9 +53,8 @@ void Pass::print(PassContext &ctx, ResultStore &results,
 
 PassPipeline pipelineFor(Method method) {
   PassPipeline p;
-  p.push_back(createAliasEliminationPass());
-  p.push_back(createMatchingPass());
-  p.push_back(createDmDiagnosisPass());
+  // Every method reports the formal index of the model as written.
+  p.push_back(createFormalIndexPass());
   switch (method) {
   case Method::Raw:
     // The model as written: Pantelides reports the index but hands on the
@@ -64,6 +63,9 @@ PassPipeline pipelineFor(Method method) {
     // unknowns unmatched, so the walk from the outputs would drop what
     // determines them) and no initialization structure (meaningless above
     // index one).
+    p.push_back(createAliasEliminationPass());
+    p.push_back(createMatchingPass());
+    p.push_back(createDmDiagnosisPass());
     p.push_back(createPantelidesPass({.reduce = false}));
     p.push_back(createDummyDerivativesPass());
     p.push_back(createBuildSystemPass());
@@ -71,12 +73,25 @@ PassPipeline pipelineFor(Method method) {
     return p;
   case Method::Sga:
   case Method::Ode:
-    // Their own passes (SGA, the ODE on P_f) arrive with issue 14; until
-    // then they run the dd pipeline, as the driver always did.
+    // The vector field on P_f from the geometric algorithm, whatever the
+    // model's size, and no structural index reduction.
+    p.push_back(createLinearPencilPass());
+    p.push_back(createSgaPass(/*always=*/true));
+    p.push_back(createSgaSystemPass());
+    return p;
   case Method::DummyDerivatives:
+    // The SGA first, on the model as written, as a verdict (no solution,
+    // not unique, redundant equations) and to cross-check the states
+    // structure chooses.
+    p.push_back(createLinearPencilPass());
+    p.push_back(createSgaPass());
+    p.push_back(createAliasEliminationPass());
+    p.push_back(createMatchingPass());
+    p.push_back(createDmDiagnosisPass());
     p.push_back(createPantelidesPass());
     p.push_back(createDummyDerivativesPass());
     p.push_back(createBuildSystemPass());
+    p.push_back(createSgaCheckPass());
     p.push_back(createBltPass());
     p.push_back(createPrunePass());
     p.push_back(createCausalizePass());
@@ -110,7 +125,7 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
           *opts.log << "// ---- after " << name << " ----\n";
           pass->print(ctx, results, *opts.log);
         }
-    if (!ok)
+    if (!ok || ctx.finished)
       break;
   }
   if (opts.timePasses && opts.log) {

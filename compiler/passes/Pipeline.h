@@ -31,6 +31,9 @@ struct PipelineOptions {
   /// Causalize and tear the index-1 system (`--causalize on|off`).
   bool causalize = true;
   bool timePasses = false;
+  /// Only a report is asked for (`--analyze`, or no action): a model that
+  /// is not well-posed gets warnings where a run would get errors.
+  bool reportOnly = false;
   /// Pass names after which the current state is printed to `log`.
   std::vector<std::string> printAfter;
   std::ostream *log = nullptr;
@@ -129,7 +132,10 @@ struct AnalysisResult {
   /// Equals the structural index: ldaec does not compute more yet (the SGA
   /// stage may refine it where structure is fooled by cancellation).
   std::optional<int> differentiationIndex;
-  int dof = 0; // number of states of the index-1 system
+  int dof = 0; // number of states of the index-1 system (the SGA's dim P_f
+               // where the two disagree)
+  /// The structural count where the SGA found another (structure fooled).
+  std::optional<int> structuralDof;
   std::vector<std::string> states;
   std::vector<std::string> dummies;
   std::vector<DifferentiatedEquation> differentiated;
@@ -145,6 +151,10 @@ struct AnalysisResult {
   std::optional<LinearReport> linear;
   /// Le Vey's formal index of the system as written (seed 004).
   std::optional<int> formalIndex;
+  /// Why formalIndex is empty (docs/indices.md), "" when it is set.
+  std::string formalIndexNote;
+  /// dim R_q^(s) (fibre dimension) for s = 0, 1, ...: the last two equal.
+  std::vector<int> formalDimensions;
   std::vector<PassTiming> timings;
   std::optional<ir::DaeSystem> system;
 };

@@ -79,6 +79,86 @@ nlohmann::json causalJson(const CausalResult &c) {
           {"blocks", blocks}};
 }
 
+const char *outcomeName(SgaReport::Outcome o) {
+  switch (o) {
+  case SgaReport::Outcome::Unique:
+    return "unique";
+  case SgaReport::Outcome::NotUnique:
+    return "not_unique";
+  case SgaReport::Outcome::NoSolution:
+    return "no_solution";
+  }
+  return "";
+}
+
+void printSga(const SgaReport &s, std::ostream &out) {
+  out << "  geometric algorithm:  ";
+  switch (s.outcome) {
+  case SgaReport::Outcome::Unique:
+    out << "unique, dim P_f = " << s.dof;
+    break;
+  case SgaReport::Outcome::NotUnique:
+    out << "not unique (" << s.freeFunctions << " free function"
+        << (s.freeFunctions == 1 ? "" : "s") << "), dim P_f = " << s.dof;
+    break;
+  case SgaReport::Outcome::NoSolution:
+    out << "no solution (P_f empty)";
+    break;
+  }
+  out << "; " << s.generations.size() << " constraint generation"
+      << (s.generations.size() == 1 ? "" : "s") << " in " << s.steps
+      << " step" << (s.steps == 1 ? "" : "s") << "\n";
+  for (size_t g = 0; g < s.generations.size(); ++g)
+    for (const SgaConstraint &c : s.generations[g])
+      out << "    generation " << g + 1 << ":       " << c.expr << " = 0\n";
+  if (s.conflict)
+    out << "    cannot hold:        " << s.conflict->expr << " = 0\n";
+  if (!s.undetermined.empty())
+    out << "    undetermined:       " << joined(s.undetermined) << "\n";
+  if (!s.redundant.empty())
+    out << "    redundant:          " << joined(s.redundant) << "\n";
+  if (!s.point.empty()) {
+    out << "    the only point:     ";
+    for (size_t i = 0; i < s.point.size(); ++i)
+      out << (i ? ", " : "") << s.point[i].first << " = " << s.point[i].second;
+    out << "\n";
+  }
+}
+
+nlohmann::json sgaConstraintsJson(const SgaReport &s) {
+  nlohmann::json gens = nlohmann::json::array();
+  for (const std::vector<SgaConstraint> &g : s.generations) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const SgaConstraint &c : g)
+      list.push_back({{"expr", c.expr}, {"from", c.from}});
+    gens.push_back(list);
+  }
+  return gens;
+}
+
+/// The Wong-sequence verdict of a linear model (the "linear" pass).
+void printLinear(const LinearReport &l, std::ostream &out) {
+  out << "  linear pencil (Wong): "
+      << (l.regular ? "regular, index " + std::to_string(l.index)
+                    : std::string("singular: not well-posed"))
+      << ", dim V = " << l.dimV << ", dim W = " << l.dimW << "\n";
+  if (!l.freeDirections.empty())
+    out << "    free directions:    " << joined(l.freeDirections) << "\n";
+  if (!l.conflict.empty())
+    out << "    conflict:           " << l.conflict << "\n";
+}
+
+nlohmann::json linearJson(const LinearReport &l) {
+  return {{"regular", l.regular},
+          {"index", l.regular ? nlohmann::json(l.index)
+                              : nlohmann::json(nullptr)},
+          {"dim_V", l.dimV},
+          {"dim_W", l.dimW},
+          {"free_directions", l.freeDirections},
+          {"conflict", l.conflict.empty() ? nlohmann::json(nullptr)
+                                          : nlohmann::json(l.conflict)}};
+}
+
 template <typename T> nlohmann::json optionalJson(const std::optional<T> &v) {
   return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
@@ -89,6 +169,21 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
   out << "  variables:            " << r.variables << "\n";
   out << "  equations:            " << r.equations << "\n";
   out << "  aliases removed:      " << r.aliasesRemoved << "\n";
+  out << "  formal index:         ";
+  if (r.formalIndex) {
+    out << *r.formalIndex << " (dim R_q^(s):";
+    for (int d : r.formalDimensions)
+      out << " " << d;
+    out << ")\n";
+  } else {
+    out << "not computed (" << r.formalIndexNote << ")\n";
+  }
+  if (r.sga)
+    printSga(*r.sga, out);
+  if (r.linear)
+    printLinear(*r.linear, out);
+  if (r.sga && r.sga->outcome != SgaReport::Outcome::Unique)
+    return; // structural analysis did not run
   if (r.singular) {
     out << "  structurally singular\n";
     if (!r.overDetermined.empty())
@@ -100,9 +195,11 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
   if (r.structuralIndex)
     out << "  structural index:     " << *r.structuralIndex << "\n";
   if (r.differentiationIndex)
-    out << "  differentiation index: " << *r.differentiationIndex
-        << " (structural)\n";
-  out << "  degrees of freedom:   " << r.dof << "\n";
+    out << "  differentiation index: " << *r.differentiationIndex << "\n";
+  out << "  degrees of freedom:   " << r.dof;
+  if (r.structuralDof)
+    out << " (structure finds " << *r.structuralDof << ")";
+  out << "\n";
   out << "  states:               " << joined(r.states) << "\n";
   out << "  dummy derivatives:    " << joined(r.dummies) << "\n";
   if (!r.differentiated.empty()) {
@@ -148,7 +245,12 @@ nlohmann::json analysisToJson(const AnalysisResult &r) {
   j["singular"] = r.singular;
   j["structural_index"] = optionalJson(r.structuralIndex);
   j["differentiation_index"] = optionalJson(r.differentiationIndex);
-  j["dof"] = r.singular ? nlohmann::json(nullptr) : nlohmann::json(r.dof);
+  j["formal_index"] = optionalJson(r.formalIndex);
+  if (r.sga && r.sga->outcome != SgaReport::Outcome::NoSolution)
+    j["dof"] = r.sga->dof;
+  else
+    j["dof"] = r.singular ? nlohmann::json(nullptr) : nlohmann::json(r.dof);
+  j["structural_dof"] = optionalJson(r.structuralDof);
   j["states"] = r.states;
   j["dummies"] = r.dummies;
   nlohmann::json diffs = nlohmann::json::array();
@@ -158,7 +260,7 @@ nlohmann::json analysisToJson(const AnalysisResult &r) {
   j["differentiated"] = diffs;
   j["blt"] = r.bltBlocks;
   j["over_determined"] = r.overDetermined;
-  j["undetermined"] = r.underDetermined;
+  j["undetermined"] = r.sga ? r.sga->undetermined : r.underDetermined;
   j["system_unknowns"] = r.systemUnknowns;
   j["pruned_unknowns"] = r.prunedUnknowns;
   j["integrator_unknowns"] = r.causal.integratorUnknowns;
@@ -183,10 +285,26 @@ nlohmann::json analysisToJson(const AnalysisResult &r) {
                  {"consistent", r.init.consistent}};
   else
     j["init"] = nullptr;
-  j["outcome"] = nullptr;
-  j["constraints"] = nullptr;
-  j["free_functions"] = nullptr;
-  j["linear"] = nullptr;
+  if (r.sga) {
+    j["outcome"] = outcomeName(r.sga->outcome);
+    j["constraints"] = sgaConstraintsJson(*r.sga);
+    j["free_functions"] = r.sga->freeFunctions;
+    j["redundant"] = r.sga->redundant;
+    j["sga_steps"] = r.sga->steps;
+    j["conflict"] = r.sga->conflict
+                        ? nlohmann::json{{"expr", r.sga->conflict->expr},
+                                         {"from", r.sga->conflict->from}}
+                        : nlohmann::json(nullptr);
+    nlohmann::json point = nlohmann::json::object();
+    for (const auto &[name, value] : r.sga->point)
+      point[name] = value;
+    j["point"] = r.sga->point.empty() ? nlohmann::json(nullptr) : point;
+  } else {
+    j["outcome"] = nullptr;
+    j["constraints"] = nullptr;
+    j["free_functions"] = nullptr;
+  }
+  j["linear"] = r.linear ? linearJson(*r.linear) : nlohmann::json(nullptr);
   return j;
 }
 

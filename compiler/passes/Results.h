@@ -86,4 +86,15 @@ struct InitResult {
   InitReport report;
 };
 
+class PassContext;
+
+/// The reported variables of a system: every user variable (aliases
+/// included) and der(x) where the model differentiates x, by name, or the
+/// requested outputs only; `subst` maps model nodes to the system's slots.
+/// False after reporting an unknown output name. (SystemBuilder.cpp; the
+/// SGA's system reports the same outputs.)
+bool buildOutputs(PassContext &pc, const AliasResult &alias,
+                  const MatchingResult &mr, VarSubstitution &subst,
+                  std::vector<ir::SystemOutput> &out);
+
 } // namespace ldae::passes

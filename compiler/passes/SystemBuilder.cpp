@@ -49,6 +49,57 @@ void collectRoots(ir::ExprContext &ctx, std::span<const ir::ExprRef> roots,
   }
 }
 
+} // namespace
+
+bool buildOutputs(PassContext &pc, const AliasResult &alias,
+                  const MatchingResult &mr, VarSubstitution &subst,
+                  std::vector<ir::SystemOutput> &out) {
+  ir::Model &m = pc.model;
+  ir::ExprContext &ctx = m.ctx();
+  const size_t userVars = alias.eliminated.size();
+  // Outputs: every user variable (aliases included) and der(x) where the
+  // model differentiates x.
+  std::vector<ir::SystemOutput> outputs;
+  std::vector<ir::ExprRef> aliasValue(userVars, nullptr);
+  for (const Alias &a : alias.aliases)
+    aliasValue[a.var] = a.value;
+  for (ir::VarId v = 0; v < userVars; ++v) {
+    const ir::Variable &var = m.variables[v];
+    if (aliasValue[v]) {
+      outputs.push_back({var.name, subst.apply(aliasValue[v])});
+    } else if (mr.unknownIndex[v] >= 0) {
+      outputs.push_back({var.name, ctx.var(v)});
+      int j = mr.unknownIndex[v];
+      if (mr.originalOrder[j] >= 1)
+        outputs.push_back(
+            {m.variableName(ir::VarKey{v, 1}), subst.apply(ctx.var(v, 1))});
+    }
+  }
+  std::sort(outputs.begin(), outputs.end(),
+            [](const ir::SystemOutput &a, const ir::SystemOutput &b) {
+              return a.name < b.name;
+            });
+  if (pc.opts.outputs.empty()) {
+    out = std::move(outputs);
+  } else {
+    for (const std::string &name : pc.opts.outputs) {
+      auto it = std::find_if(
+          outputs.begin(), outputs.end(),
+          [&](const ir::SystemOutput &o) { return o.name == name; });
+      if (it == outputs.end()) {
+        pc.diags.report(DiagId::ErrUnknownOutput, SourceLoc{}, {name});
+        continue;
+      }
+      out.push_back(*it);
+    }
+    if (pc.diags.hasErrors())
+      return false;
+  }
+  return true;
+}
+
+namespace {
+
 class BuildSystemPass
     : public TypedPass<BuildSystemPass,
                        Reads<AliasResult, MatchingResult, IndexReduction,
@@ -69,7 +120,6 @@ bool BuildSystemPass::runOn(PassContext &pc, const AliasResult &alias,
   ir::ExprContext &ctx = m.ctx();
   const size_t nu = mr.unknowns.size();
   const size_t nsets = dc.choices.size();
-  const size_t userVars = alias.eliminated.size();
 
   ir::DaeSystem sys;
   sys.ctx = m.sharedCtx();
@@ -214,44 +264,8 @@ bool BuildSystemPass::runOn(PassContext &pc, const AliasResult &alias,
   }
   collectRoots(ctx, sys.stateSets[0].residuals, sys.roots, seen);
 
-  // Outputs: every user variable (aliases included) and der(x) where the
-  // model differentiates x.
-  std::vector<ir::SystemOutput> outputs;
-  std::vector<ir::ExprRef> aliasValue(userVars, nullptr);
-  for (const Alias &a : alias.aliases)
-    aliasValue[a.var] = a.value;
-  for (ir::VarId v = 0; v < userVars; ++v) {
-    const ir::Variable &var = m.variables[v];
-    if (aliasValue[v]) {
-      outputs.push_back({var.name, subst.apply(aliasValue[v])});
-    } else if (mr.unknownIndex[v] >= 0) {
-      outputs.push_back({var.name, ctx.var(v)});
-      int j = mr.unknownIndex[v];
-      if (mr.originalOrder[j] >= 1)
-        outputs.push_back(
-            {m.variableName(ir::VarKey{v, 1}), subst.apply(ctx.var(v, 1))});
-    }
-  }
-  std::sort(outputs.begin(), outputs.end(),
-            [](const ir::SystemOutput &a, const ir::SystemOutput &b) {
-              return a.name < b.name;
-            });
-  if (pc.opts.outputs.empty()) {
-    sys.outputs = std::move(outputs);
-  } else {
-    for (const std::string &name : pc.opts.outputs) {
-      auto it = std::find_if(
-          outputs.begin(), outputs.end(),
-          [&](const ir::SystemOutput &o) { return o.name == name; });
-      if (it == outputs.end()) {
-        pc.diags.report(DiagId::ErrUnknownOutput, SourceLoc{}, {name});
-        continue;
-      }
-      sys.outputs.push_back(*it);
-    }
-    if (pc.diags.hasErrors())
-      return false;
-  }
+  if (!buildOutputs(pc, alias, mr, subst, sys.outputs))
+    return false;
 
   sys.parameterValues = m.parameterValues();
   for (const ir::Parameter &p : m.parameters)

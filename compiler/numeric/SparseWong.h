@@ -1,0 +1,81 @@
+// Wong sequences of a large sparse pencil (E, F) (seed 002) without dense
+// n x n work: the pencil of a circuit has thousands of unknowns, and one
+// dense decomposition of that size already takes seconds.
+//
+// The pencil is first reduced by strict equivalence, which the Wong
+// sequences follow exactly:
+//  1. index-1 pairs: a row whose E-part is zero and a column whose E-part
+//     is zero with a nonzero F entry between them split off a 1 x 1 block
+//     (0, f): it adds one dimension to T, none to V, and W-step 1 (the
+//     algebraic unknowns of a circuit: resistor currents and the like);
+//  2. row compression of E (row operations only): rows whose E-part is a
+//     combination of others become constraints (a capacitor loop);
+//  then 1 again on the new constraints. What is left is
+//     [s E11 - F11, -F12; -F21, 0] with E11 square and nonsingular,
+//  i.e. x' = A x + B z, 0 = C x with A = E11^-1 F11, B = E11^-1 F12,
+//  C = F21, where z (multipliers) and the rows of C are few. Then
+//     V: X_{i+1} = ker C ∩ A^-1(X_i + im B), carried by an orthonormal
+//        basis of its annihilator (few rows),
+//     T: Y_i = A(Y_{i-1} ∩ ker C) + im B, T_{i+1} = Y_i x R^m, carried by
+//        a basis (few columns),
+//  with A applied through one sparse LU of E11 (KLU). When the reduced
+//  pencil is not of that form (E11 singular or a differentiated unknown
+//  left over: cancellation such as der(x) + der(y)), the dense Wong
+//  sequences run on the reduced pencil, which is small in such models.
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <string>
+#include <vector>
+
+namespace ldae::numeric {
+
+/// A rows x cols pencil E x' = F x (+ inputs) as coordinate lists
+/// (duplicates are summed).
+struct SparsePencil {
+  struct Entry {
+    int row, col;
+    double value;
+  };
+  int rows = 0, cols = 0;
+  std::vector<Entry> E, F;
+};
+
+struct PencilOptions {
+  /// Rank tolerance relative to the larger max-norm of E and F.
+  double tol = 1e-10;
+  /// Pencils with at most this many columns go straight to the dense
+  /// Wong sequences (no reduction).
+  int denseLimit = 200;
+  /// Largest reduced pencil the dense fallback accepts.
+  int denseFallbackLimit = 1500;
+};
+
+/// What the Wong sequences say about a pencil.
+struct PencilAnalysis {
+  bool computed = false; ///< false: too large for the dense fallback
+  bool square = false;
+  bool regular = false;  ///< square and V ⊕ T = R^n
+  int dimV = 0, dimW = 0;
+  int stepsV = 0;        ///< steps until V_i was stationary
+  int stepsW = 0;        ///< smallest i with W_i = W_{i+1} (index if regular)
+  /// Orthonormal basis (columns, over the pencil's columns) of V ∩ T: the
+  /// directions a solution may move in freely (nonzero only when singular).
+  Eigen::MatrixXd freeDirections;
+  /// How it was computed: "dense", "structured" or "reduced-dense", and
+  /// the size of the reduced pencil.
+  std::string path;
+  int reducedRows = 0, reducedCols = 0;
+  int indexOnePairs = 0; ///< 1 x 1 blocks split off by step 1
+};
+
+/// The Wong sequences of `p` (see the file comment for the method).
+PencilAnalysis analyzePencil(const SparsePencil &p,
+                             const PencilOptions &opts = {});
+
+/// The dense matrices of `p` (for small pencils and tests).
+void densePencil(const SparsePencil &p, Eigen::MatrixXd &E,
+                 Eigen::MatrixXd &F);
+
+} // namespace ldae::numeric

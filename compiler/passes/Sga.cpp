@@ -1,0 +1,629 @@
+// The SGA on a flat model (see Sga.h and docs/sga.md). Each step:
+//
+//  1. sample points: random points (slots and time) projected by
+//     Gauss–Newton onto the constraints found so far;
+//  2. the rows' A-parts (partial derivatives w.r.t. the columns) and
+//     remainders (the rows at D = 0), symbolically and at every point;
+//  3. the generic rank of A by SVD (the largest rank over the points), and
+//     Gaussian elimination of that many pivots, chosen numerically (an
+//     entry counts as nonzero when it is so at every point; among the
+//     large ones the sparsest, and the model's own equations before
+//     tangency rows), carried out on the symbolic rows and at every point;
+//  4. the rows left over have an A-part that vanishes on the manifold:
+//     their remainders are candidate constraints. One that vanishes at
+//     the points already holds; the others are added one at a time, the
+//     points projected again after each (a candidate that then holds
+//     depended on the ones before it). A projection that finds no point
+//     means P_f is empty.
+//
+// Every step starts the elimination afresh from the equations and all
+// tangency rows, so a pivot that vanishes on the new, smaller manifold is
+// never kept.
+#include "passes/Sga.h"
+#include "passes/PassContext.h"
+
+#include "ir/Differentiate.h"
+#include "ir/Evaluate.h"
+#include "ir/Query.h"
+#include "ir/Substitute.h"
+#include "numeric/Newton.h"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+
+namespace ldae::passes {
+
+namespace {
+
+constexpr int kPoints = 3;          // sample points per step
+constexpr int kDrawAttempts = 20;   // random draws per point
+constexpr double kRankTol = 1e-9;   // singular values below count as 0
+constexpr double kZeroTol = 1e-8;   // |a_ic| / max|A| below: vanishes
+constexpr double kHoldTol = 1e-8;   // |phi| / its scale below: holds
+constexpr double kPivotBand = 0.1;  // pivots within this of the largest
+
+struct Point {
+  double t = 0;
+  Eigen::VectorXd x; // slots
+};
+
+/// Where each Variable node of the SGA form lives.
+class Layout {
+public:
+  Layout(const ir::Model &m, const SgaForm &f) : model_(m) {
+    for (size_t i = 0; i < f.slots.size(); ++i)
+      slot_[f.slots[i]] = static_cast<int>(i);
+    for (size_t j = 0; j < f.columns.size(); ++j)
+      column_[f.columns[j]] = static_cast<int>(j);
+    params_ = m.parameterValues();
+  }
+  int slot(ir::VarKey k) const {
+    auto it = slot_.find(k);
+    return it == slot_.end() ? -1 : it->second;
+  }
+  int column(ir::VarKey k) const {
+    auto it = column_.find(k);
+    return it == column_.end() ? -1 : it->second;
+  }
+  /// The environment of point p with every column at 0.
+  ir::EvalEnv env(const Point &p) const {
+    ir::EvalEnv e;
+    e.time = p.t;
+    e.variable = [this, &p](ir::VarKey k) {
+      int s = slot(k);
+      if (s >= 0)
+        return p.x[s];
+      // Columns are 0 (remainders); discrete variables keep their start.
+      if (k.order == 0 && k.var < model_.variables.size())
+        return model_.variables[k.var].start;
+      return 0.0;
+    };
+    e.parameter = [this](ir::ParamId q) {
+      return q < params_.size() ? params_[q] : 0.0;
+    };
+    return e;
+  }
+
+private:
+  const ir::Model &model_;
+  std::map<ir::VarKey, int> slot_, column_;
+  std::vector<double> params_;
+};
+
+double valueAt(ir::ExprRef e, const ir::EvalEnv &env, bool &ok) {
+  auto v = ir::evaluate(e, env);
+  if (!v || !std::isfinite(*v)) {
+    ok = false;
+    return 0;
+  }
+  return *v;
+}
+
+std::vector<int> merged(const std::vector<int> &a, const std::vector<int> &b) {
+  std::vector<int> out;
+  std::set_union(a.begin(), a.end(), b.begin(), b.end(),
+                 std::back_inserter(out));
+  return out;
+}
+
+/// One row during elimination: sparse symbolic A-part and remainder, and
+/// their values at every point.
+struct WorkRow {
+  std::vector<ir::ExprRef> coef; // per column, nullptr: zero
+  ir::ExprRef rem = nullptr;
+  std::vector<int> sources;
+  bool pivoted = false;
+};
+
+class Sga {
+public:
+  Sga(PassContext &ctx, const MatchingResult &mr, SgaResult &out)
+      : pc_(ctx), m_(ctx.model), ex_(m_.ctx()), mr_(mr), out_(out),
+        diff_(ex_), rng_(20261124) {}
+
+  void run();
+
+private:
+  PassContext &pc_;
+  const ir::Model &m_;
+  ir::ExprContext &ex_;
+  const MatchingResult &mr_;
+  SgaResult &out_;
+  ir::Differentiator diff_;
+  std::mt19937 rng_;
+  std::unique_ptr<Layout> layout_;
+  /// Per constraint: the slots it reads and its partial derivatives.
+  std::vector<std::vector<std::pair<int, ir::ExprRef>>> gradients_;
+  std::set<int> gaveConstraint_; // rows whose remainder became a constraint
+  int dependent_ = 0; // constraints whose gradients depend on earlier ones
+
+  void buildForm();
+  bool samplePoints(std::vector<Point> &pts, int *failed);
+  bool project(Point &p, size_t count);
+  bool holds(ir::ExprRef phi, const std::vector<Point> &pts, double scale);
+  /// One step; false when P_f turned out empty.
+  bool step(std::vector<Point> &pts, bool &grew);
+  void addConstraint(ir::ExprRef phi, std::vector<int> sources);
+  void finish(const std::vector<Point> &pts);
+  /// Rank of the constraints' Jacobian (w.r.t. the slots) at p.
+  int constraintRank(const Point &p);
+  std::vector<WorkRow> evaluateRows(const std::vector<Point> &pts,
+                                    std::vector<Eigen::MatrixXd> &A,
+                                    std::vector<Eigen::VectorXd> &r);
+  std::vector<std::pair<int, int>>
+  eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
+            std::vector<Eigen::VectorXd> &r, int rank,
+            const std::vector<double> &normA);
+};
+
+void Sga::buildForm() {
+  SgaForm &f = out_.form;
+  const size_t nu = mr_.unknowns.size();
+  f.top.assign(nu, 1);
+  for (size_t j = 0; j < nu; ++j)
+    f.top[j] = static_cast<unsigned>(std::max(1, mr_.originalOrder[j]));
+  // An equation nonlinear in a top derivative makes that derivative a
+  // slot (w = x'); repeat until every row is linear in its columns.
+  for (int round = 0; round < 4; ++round) {
+    bool changed = false;
+    for (int e : mr_.equations) {
+      ir::ExprRef res = m_.equations[e].residual;
+      for (ir::VarKey k : ir::freeVariables(res)) {
+        if (k.var >= mr_.unknownIndex.size() || mr_.unknownIndex[k.var] < 0)
+          continue;
+        int j = mr_.unknownIndex[k.var];
+        if (k.order != f.top[j])
+          continue;
+        ir::ExprRef a = diff_.partial(res, k);
+        for (ir::VarKey q : ir::freeVariables(a)) {
+          if (q.var >= mr_.unknownIndex.size() || mr_.unknownIndex[q.var] < 0)
+            continue;
+          int jq = mr_.unknownIndex[q.var];
+          if (q.order == f.top[jq]) {
+            ++f.top[j];
+            changed = true;
+            break;
+          }
+        }
+        if (changed)
+          break;
+      }
+    }
+    if (!changed)
+      break;
+  }
+  for (size_t j = 0; j < nu; ++j) {
+    ir::VarId v = mr_.unknowns[j];
+    for (unsigned k = 0; k < f.top[j]; ++k)
+      f.slots.push_back({v, k});
+    f.columns.push_back({v, f.top[j]});
+  }
+}
+
+bool Sga::project(Point &p, size_t count) {
+  if (count == 0)
+    return true;
+  ir::EvalEnv env = layout_->env(p);
+  numeric::ResidualFn res = [&](const Eigen::VectorXd &x, Eigen::VectorXd &r) {
+    p.x = x;
+    r.resize(static_cast<Eigen::Index>(count));
+    bool ok = true;
+    for (size_t c = 0; c < count; ++c)
+      r[static_cast<Eigen::Index>(c)] = valueAt(out_.constraints[c].expr, env, ok);
+    return ok;
+  };
+  numeric::JacobianFn jac = [&](const Eigen::VectorXd &x, Eigen::MatrixXd &J) {
+    p.x = x;
+    J.setZero(static_cast<Eigen::Index>(count), x.size());
+    bool ok = true;
+    for (size_t c = 0; c < count; ++c)
+      for (auto [s, g] : gradients_[c])
+        J(static_cast<Eigen::Index>(c), s) = valueAt(g, env, ok);
+    return ok;
+  };
+  numeric::NewtonOptions opts;
+  opts.tolerance = 1e-13;
+  opts.maxIterations = 60;
+  Eigen::VectorXd x = p.x;
+  numeric::NewtonResult nr = numeric::gaussNewton(res, jac, x, opts);
+  p.x = x;
+  return nr.converged();
+}
+
+bool Sga::samplePoints(std::vector<Point> &pts, int *failed) {
+  const size_t ns = out_.form.slots.size();
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  pts.assign(kPoints, Point{});
+  for (int s = 0; s < kPoints; ++s) {
+    bool found = false;
+    for (int attempt = 0; attempt < kDrawAttempts && !found; ++attempt) {
+      Point p;
+      p.t = 0.3 + 0.25 * s + 0.1 * u(rng_);
+      p.x.resize(static_cast<Eigen::Index>(ns));
+      for (size_t i = 0; i < ns; ++i) {
+        ir::VarKey k = out_.form.slots[i];
+        const ir::Variable &var = m_.variables[k.var];
+        double base = k.order == 0 ? var.start : 0.0;
+        double scale = std::max(std::abs(var.nominal), 1e-300);
+        p.x[static_cast<Eigen::Index>(i)] = base + scale * (0.5 * u(rng_) + (u(rng_) > 0 ? 0.3 : -0.3));
+      }
+      if (!project(p, out_.constraints.size()))
+        continue;
+      // Every row must be defined at the point.
+      ir::EvalEnv env = layout_->env(p);
+      bool ok = true;
+      for (const SgaRow &row : out_.rows)
+        valueAt(row.residual, env, ok);
+      if (ok) {
+        pts[s] = p;
+        found = true;
+      }
+    }
+    if (!found) {
+      if (failed)
+        *failed = s;
+      return false;
+    }
+  }
+  return true;
+}
+
+bool Sga::holds(ir::ExprRef phi, const std::vector<Point> &pts, double scale) {
+  for (const Point &p : pts) {
+    bool ok = true;
+    double v = valueAt(phi, layout_->env(p), ok);
+    if (!ok || std::abs(v) > kHoldTol * std::max(scale, 1e-12))
+      return false;
+  }
+  return true;
+}
+
+void Sga::addConstraint(ir::ExprRef phi, std::vector<int> sources) {
+  SgaConstraintExpr c;
+  c.expr = phi;
+  c.sources = std::move(sources);
+  c.generation = out_.generations;
+  std::vector<std::pair<int, ir::ExprRef>> grad;
+  for (ir::VarKey k : ir::freeVariables(phi)) {
+    int s = layout_->slot(k);
+    if (s >= 0)
+      grad.emplace_back(s, diff_.partial(phi, k));
+  }
+  gradients_.push_back(std::move(grad));
+  SgaRow row;
+  row.residual = diff_.timeDerivative(phi);
+  row.sources = c.sources;
+  row.constraint = static_cast<int>(out_.constraints.size());
+  out_.constraints.push_back(std::move(c));
+  out_.rows.push_back(std::move(row));
+}
+
+std::vector<WorkRow> Sga::evaluateRows(const std::vector<Point> &pts,
+                                       std::vector<Eigen::MatrixXd> &A,
+                                       std::vector<Eigen::VectorXd> &r) {
+  const SgaForm &f = out_.form;
+  const size_t nr = out_.rows.size(), nc = f.columns.size();
+  ir::Substitution atZero(ex_);
+  for (ir::VarKey k : f.columns)
+    atZero.set(ex_.var(k), ex_.zero());
+  std::vector<WorkRow> rows(nr);
+  for (size_t i = 0; i < nr; ++i) {
+    WorkRow &w = rows[i];
+    ir::ExprRef res = out_.rows[i].residual;
+    w.coef.assign(nc, nullptr);
+    for (ir::VarKey k : ir::freeVariables(res)) {
+      int c = layout_->column(k);
+      if (c >= 0)
+        w.coef[c] = diff_.partial(res, k);
+    }
+    w.rem = atZero.apply(res);
+    w.sources = out_.rows[i].sources;
+  }
+  A.assign(pts.size(), Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(nr),
+                                             static_cast<Eigen::Index>(nc)));
+  r.assign(pts.size(), Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nr)));
+  for (size_t s = 0; s < pts.size(); ++s) {
+    ir::EvalEnv env = layout_->env(pts[s]);
+    for (size_t i = 0; i < nr; ++i) {
+      bool ok = true;
+      for (size_t c = 0; c < nc; ++c)
+        if (rows[i].coef[c])
+          A[s](static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)) =
+              valueAt(rows[i].coef[c], env, ok);
+      r[s][static_cast<Eigen::Index>(i)] = valueAt(rows[i].rem, env, ok);
+    }
+  }
+  return rows;
+}
+
+std::vector<std::pair<int, int>>
+Sga::eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
+               std::vector<Eigen::VectorXd> &r, int rank,
+               const std::vector<double> &normA) {
+  const int nr = static_cast<int>(rows.size());
+  const int nc = static_cast<int>(out_.form.columns.size());
+  const size_t np = A.size();
+  std::vector<char> colDone(static_cast<size_t>(nc), 0);
+  std::vector<std::pair<int, int>> pivots;
+  auto ratio = [&](int i, int c) {
+    double least = INFINITY;
+    for (size_t s = 0; s < np; ++s)
+      least = std::min(least, std::abs(A[s](i, c)) / normA[s]);
+    return least;
+  };
+  // The model's equations are pivots before tangency rows: then the
+  // equations left over are the redundant ones, and the vector field on
+  // P_f is made of the user's own equations where they suffice.
+  for (int phase = 0; phase < 2 && static_cast<int>(pivots.size()) < rank;
+       ++phase) {
+    while (static_cast<int>(pivots.size()) < rank) {
+      std::vector<int> rowNnz(static_cast<size_t>(nr), 0),
+          colNnz(static_cast<size_t>(nc), 0);
+      double best = 0;
+      for (int i = 0; i < nr; ++i) {
+        if (rows[i].pivoted || (phase == 0 && out_.rows[i].constraint >= 0))
+          continue;
+        for (int c = 0; c < nc; ++c) {
+          if (colDone[c])
+            continue;
+          double q = ratio(i, c);
+          if (q > kZeroTol) {
+            ++rowNnz[i];
+            ++colNnz[c];
+            best = std::max(best, q);
+          }
+        }
+      }
+      if (best <= kZeroTol)
+        break;
+      int pr = -1, pcol = -1;
+      long bestCost = 0;
+      double bestQ = 0;
+      for (int i = 0; i < nr; ++i) {
+        if (rowNnz[i] == 0)
+          continue;
+        for (int c = 0; c < nc; ++c) {
+          if (colDone[c])
+            continue;
+          double q = ratio(i, c);
+          if (q < kPivotBand * best)
+            continue;
+          long cost = static_cast<long>(rowNnz[i] - 1) * (colNnz[c] - 1);
+          if (pr < 0 || cost < bestCost || (cost == bestCost && q > bestQ)) {
+            pr = i;
+            pcol = c;
+            bestCost = cost;
+            bestQ = q;
+          }
+        }
+      }
+      rows[pr].pivoted = true;
+      colDone[pcol] = 1;
+      pivots.emplace_back(pr, pcol);
+      ir::ExprRef piv = rows[pr].coef[pcol];
+      for (int j = 0; j < nr; ++j) {
+        if (j == pr || rows[j].pivoted || !rows[j].coef[pcol])
+          continue;
+        bool vanishes = true;
+        for (size_t s = 0; s < np; ++s)
+          vanishes = vanishes && std::abs(A[s](j, pcol)) <= kZeroTol * normA[s];
+        if (vanishes) {
+          // Vanishes on the manifold: nothing to eliminate there.
+          rows[j].coef[pcol] = nullptr;
+          for (size_t s = 0; s < np; ++s)
+            A[s](j, pcol) = 0;
+          continue;
+        }
+        ir::ExprRef mu = ex_.div(rows[j].coef[pcol], piv);
+        for (int c = 0; c < nc; ++c) {
+          if (c == pcol || !rows[pr].coef[c])
+            continue;
+          ir::ExprRef term = ex_.mul(mu, rows[pr].coef[c]);
+          rows[j].coef[c] =
+              rows[j].coef[c] ? ex_.sub(rows[j].coef[c], term) : ex_.neg(term);
+        }
+        rows[j].coef[pcol] = nullptr;
+        rows[j].rem = ex_.sub(rows[j].rem, ex_.mul(mu, rows[pr].rem));
+        rows[j].sources = merged(rows[j].sources, rows[pr].sources);
+        for (size_t s = 0; s < np; ++s) {
+          double m = A[s](j, pcol) / A[s](pr, pcol);
+          A[s].row(j) -= m * A[s].row(pr);
+          A[s](j, pcol) = 0;
+          r[s][j] -= m * r[s][pr];
+        }
+      }
+    }
+  }
+  return pivots;
+}
+
+bool Sga::step(std::vector<Point> &pts, bool &grew) {
+  grew = false;
+  std::vector<Eigen::MatrixXd> A;
+  std::vector<Eigen::VectorXd> r;
+  std::vector<WorkRow> rows = evaluateRows(pts, A, r);
+  const int nr = static_cast<int>(rows.size());
+  int rank = 0;
+  std::vector<double> normA(A.size(), 1.0);
+  std::vector<std::vector<double>> scale(A.size(), std::vector<double>(nr));
+  for (size_t s = 0; s < A.size(); ++s) {
+    normA[s] = std::max(A[s].cwiseAbs().maxCoeff(), 1e-300);
+    if (A[s].size() > 0) {
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(A[s]);
+      const Eigen::VectorXd &sv = svd.singularValues();
+      int rk = 0;
+      for (Eigen::Index i = 0; i < sv.size(); ++i)
+        if (sv[i] > kRankTol * sv[0])
+          ++rk;
+      rank = std::max(rank, rk);
+    }
+    for (int i = 0; i < nr; ++i)
+      scale[s][i] = std::abs(r[s][i]);
+  }
+  std::vector<std::pair<int, int>> pivots = eliminate(rows, A, r, rank, normA);
+  out_.pivotRows.clear();
+  for (auto [row, col] : pivots)
+    out_.pivotRows.push_back(row);
+
+  // Candidates: rows without a pivot whose A-part vanishes at every point.
+  std::vector<int> candidates;
+  for (int i = 0; i < nr; ++i) {
+    if (rows[i].pivoted)
+      continue;
+    bool zero = true;
+    for (size_t s = 0; s < A.size() && zero; ++s)
+      zero = A[s].row(i).cwiseAbs().maxCoeff() <= kZeroTol * normA[s] ||
+             A[s].cols() == 0;
+    if (zero)
+      candidates.push_back(i);
+  }
+  for (int i : candidates) {
+    double sc = 0;
+    for (size_t s = 0; s < A.size(); ++s)
+      sc = std::max(sc, scale[s][i]);
+    const SgaRow &own = out_.rows[i];
+    if (holds(rows[i].rem, pts, std::max(sc, 1.0))) {
+      // A model equation whose row is implied by the others on the current
+      // manifold is redundant, unless its row gave a constraint before.
+      if (own.constraint < 0 && !gaveConstraint_.count(i) &&
+          std::find(out_.redundant.begin(), out_.redundant.end(),
+                    own.sources.front()) == out_.redundant.end())
+        out_.redundant.push_back(own.sources.front());
+      continue;
+    }
+    addConstraint(rows[i].rem, rows[i].sources);
+    gaveConstraint_.insert(i);
+    grew = true;
+    int failed = -1;
+    if (!samplePoints(pts, &failed)) {
+      out_.conflict = static_cast<int>(out_.constraints.size()) - 1;
+      return false;
+    }
+    // A model equation that picks a branch of the manifold the others
+    // define but whose gradient depends on theirs there (a mechanism's
+    // redundant loop closure) is redundant too: locally implied.
+    if (own.constraint < 0 && rows[i].sources.size() == 1 &&
+        constraintRank(pts[0]) < static_cast<int>(out_.constraints.size()) -
+                                     dependent_)
+      out_.redundant.push_back(own.sources.front());
+    dependent_ = static_cast<int>(out_.constraints.size()) -
+                 constraintRank(pts[0]);
+  }
+  return true;
+}
+
+int Sga::constraintRank(const Point &p) {
+  const size_t ns = out_.form.slots.size(), ncons = out_.constraints.size();
+  if (ncons == 0 || ns == 0)
+    return 0;
+  ir::EvalEnv env = layout_->env(p);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(ncons),
+                                            static_cast<Eigen::Index>(ns));
+  bool ok = true;
+  for (size_t c = 0; c < ncons; ++c)
+    for (auto [s, g] : gradients_[c])
+      J(static_cast<Eigen::Index>(c), s) = valueAt(g, env, ok);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
+  const Eigen::VectorXd &sv = svd.singularValues();
+  int rank = 0;
+  for (Eigen::Index i = 0; i < sv.size(); ++i)
+    if (sv[i] > kRankTol * sv[0])
+      ++rank;
+  return rank;
+}
+
+void Sga::finish(const std::vector<Point> &pts) {
+  const size_t ns = out_.form.slots.size(), nc = out_.form.columns.size();
+  const Point &p = pts[0];
+  // dim P_f: slots minus the rank of the constraints' Jacobian there.
+  out_.dof = static_cast<int>(ns) - constraintRank(p);
+  // The kernel of A on P_f: the free functions and what they move.
+  std::vector<Eigen::MatrixXd> A;
+  std::vector<Eigen::VectorXd> r;
+  std::vector<Point> one{p};
+  evaluateRows(one, A, r);
+  int rank = 0;
+  if (nc > 0) {
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(A[0], Eigen::ComputeFullV);
+    const Eigen::VectorXd &sv = svd.singularValues();
+    for (Eigen::Index i = 0; i < sv.size(); ++i)
+      if (sv[0] > 0 && sv[i] > kRankTol * sv[0])
+        ++rank;
+    Eigen::MatrixXd kernel =
+        svd.matrixV().rightCols(static_cast<Eigen::Index>(nc) - rank);
+    for (size_t c = 0; c < nc; ++c)
+      if (kernel.rows() > 0 && kernel.cols() > 0 &&
+          kernel.row(static_cast<Eigen::Index>(c)).norm() > 1e-8)
+        out_.freeColumns.push_back(static_cast<int>(c));
+  }
+  out_.freeFunctions = static_cast<int>(nc) - rank;
+  out_.outcome = out_.freeFunctions > 0 ? SgaReport::Outcome::NotUnique
+                                        : SgaReport::Outcome::Unique;
+  out_.point.assign(p.x.data(), p.x.data() + p.x.size());
+  out_.pointTime = p.t;
+}
+
+void Sga::run() {
+  out_.ran = true;
+  buildForm();
+  layout_ = std::make_unique<Layout>(m_, out_.form);
+  for (int e : mr_.equations) {
+    SgaRow row;
+    row.residual = m_.equations[e].residual;
+    row.sources = {e};
+    out_.rows.push_back(row);
+  }
+  std::vector<Point> pts;
+  if (!samplePoints(pts, nullptr)) {
+    out_.ran = false;
+    out_.skipped = "no point where every equation is defined was found";
+    return;
+  }
+  const size_t maxSteps = out_.form.slots.size() + 2;
+  for (size_t k = 0; k < maxSteps; ++k) {
+    ++out_.steps;
+    bool grew = false;
+    if (!step(pts, grew)) {
+      out_.outcome = SgaReport::Outcome::NoSolution;
+      ++out_.generations;
+      return;
+    }
+    if (!grew)
+      break;
+    ++out_.generations;
+  }
+  finish(pts);
+}
+
+} // namespace
+
+MatchingResult sgaInput(const ir::Model &m) {
+  MatchingResult in;
+  in.unknownIndex.assign(m.variables.size(), -1);
+  for (ir::VarId v = 0; v < m.variables.size(); ++v)
+    if (!m.variables[v].isDiscrete) {
+      in.unknownIndex[v] = static_cast<int>(in.unknowns.size());
+      in.unknowns.push_back(v);
+    }
+  in.originalOrder.assign(in.unknowns.size(), 0);
+  for (size_t e = 0; e < m.equations.size(); ++e) {
+    in.equations.push_back(static_cast<int>(e));
+    for (ir::VarKey k : ir::freeVariables(m.equations[e].residual))
+      if (k.var < in.unknownIndex.size() && in.unknownIndex[k.var] >= 0) {
+        int &o = in.originalOrder[static_cast<size_t>(in.unknownIndex[k.var])];
+        o = std::max(o, static_cast<int>(k.order));
+      }
+  }
+  return in;
+}
+
+void runSga(PassContext &ctx, SgaResult &out) {
+  Sga(ctx, out.input, out).run();
+}
+
+} // namespace ldae::passes

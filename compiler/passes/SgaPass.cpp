@@ -1,0 +1,236 @@
+// Pass "sga": runs the geometric algorithm (Sga.h) on the model after
+// alias elimination and gives its verdict before structural analysis
+// does: a model whose solution is not unique or that has none stops here
+// with the reason (the free functions and what they move, or the
+// constraint that cannot hold and where it came from); equations the
+// others imply are named and left out, so an over-determined but
+// consistent model (a mechanism with a redundant loop) goes on square.
+// Pass "sga-check" compares the SGA's degrees of freedom with the states
+// structural index reduction chose: where they differ, structure was
+// fooled (cancellation, a singular derivative matrix) and the SGA's count
+// stands in the report.
+#include "passes/Passes.h"
+#include "passes/Results.h"
+#include "passes/Sga.h"
+
+#include "ir/Print.h"
+
+#include <algorithm>
+
+namespace ldae::passes {
+
+namespace {
+
+constexpr size_t kMaxNotes = 8;
+
+std::vector<std::string> equationTexts(PassContext &ctx,
+                                       const std::vector<int> &eqs) {
+  std::vector<std::string> out;
+  for (int e : eqs)
+    out.push_back(ctx.equationText(e));
+  return out;
+}
+
+void noteEquations(PassContext &ctx, Diagnostic &d, const std::vector<int> &eqs) {
+  for (size_t i = 0; i < eqs.size() && i < kMaxNotes; ++i)
+    DiagnosticEngine::addNote(d, ctx.model.equations[eqs[i]].loc,
+                              DiagId::NoteEquationInvolved,
+                              {ctx.equationText(eqs[i])});
+}
+
+/// "the equation at a.lsd:7" / "the equations at a.lsd:7, a.lsd:9".
+std::string describeEquations(PassContext &ctx, const std::vector<int> &eqs) {
+  std::vector<std::string> where;
+  for (int e : eqs) {
+    std::string w = ctx.where(ctx.model.equations[e].loc);
+    where.push_back(w.empty() ? "'" + ctx.equationText(e) + "'" : w);
+  }
+  std::string list;
+  for (size_t i = 0; i < where.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == where.size() ? " and " : ", ") + where[i];
+  return (eqs.size() == 1 ? "the equation at " : "the equations at ") + list;
+}
+
+SgaReport toReport(PassContext &ctx, const SgaResult &r) {
+  const ir::Model &m = ctx.model;
+  SgaReport rep;
+  rep.outcome = r.outcome;
+  rep.dof = r.dof;
+  rep.freeFunctions = r.freeFunctions;
+  rep.steps = r.steps;
+  rep.generations.resize(static_cast<size_t>(r.generations));
+  for (const SgaConstraintExpr &c : r.constraints) {
+    if (c.generation >= r.generations)
+      rep.generations.resize(static_cast<size_t>(c.generation) + 1);
+    rep.generations[static_cast<size_t>(c.generation)].push_back(
+        {ir::printLsd(c.expr, &m), equationTexts(ctx, c.sources)});
+  }
+  for (int c : r.freeColumns)
+    rep.undetermined.push_back(
+        m.variables[r.form.columns[static_cast<size_t>(c)].var].name);
+  rep.redundant = equationTexts(ctx, r.redundant);
+  if (r.conflict >= 0) {
+    const SgaConstraintExpr &c = r.constraints[static_cast<size_t>(r.conflict)];
+    rep.conflict = SgaConstraint{ir::printLsd(c.expr, &m),
+                                 equationTexts(ctx, c.sources)};
+  }
+  if (r.outcome == SgaReport::Outcome::Unique && r.dof == 0)
+    for (size_t i = 0; i < r.form.slots.size(); ++i)
+      rep.point.emplace_back(m.variableName(r.form.slots[i]), r.point[i]);
+  return rep;
+}
+
+/// Leaves the equations `drop` out of the model, renumbering the SGA's
+/// references to the others.
+void dropEquations(ir::Model &m, SgaResult &sga, const std::vector<int> &drop) {
+  std::vector<int> renumber(m.equations.size(), -1);
+  std::vector<ir::Equation> keep;
+  for (size_t e = 0; e < m.equations.size(); ++e) {
+    if (std::find(drop.begin(), drop.end(), static_cast<int>(e)) != drop.end())
+      continue;
+    renumber[e] = static_cast<int>(keep.size());
+    keep.push_back(std::move(m.equations[e]));
+  }
+  m.equations = std::move(keep);
+  auto apply = [&](std::vector<int> &sources) {
+    std::vector<int> out;
+    for (int e : sources)
+      if (renumber[static_cast<size_t>(e)] >= 0)
+        out.push_back(renumber[static_cast<size_t>(e)]);
+    sources = std::move(out);
+  };
+  for (SgaConstraintExpr &c : sga.constraints)
+    apply(c.sources);
+  for (SgaRow &r : sga.rows)
+    apply(r.sources);
+  sga.redundant.clear();
+}
+
+class SgaPass
+    : public TypedPass<SgaPass, Reads<>, Updates<>, Produces<SgaResult>> {
+public:
+  explicit SgaPass(bool always) : TypedPass(PassId::Sga), always_(always) {}
+  bool runOn(PassContext &ctx, SgaResult &out);
+
+private:
+  bool always_; // the sga and ode methods: no size limit
+};
+
+bool SgaPass::runOn(PassContext &ctx, SgaResult &out) {
+  out.input = sgaInput(ctx.model);
+  size_t slots = 0;
+  for (int o : out.input.originalOrder)
+    slots += static_cast<size_t>(std::max(1, o));
+  if (!always_ && slots > kSgaCrossCheckLimit) {
+    out.skipped = "the model has " + std::to_string(slots) +
+                  " coordinates, above the cross-check's limit of " +
+                  std::to_string(kSgaCrossCheckLimit);
+    return true;
+  }
+  runSga(ctx, out);
+  if (!out.ran)
+    return true;
+  ctx.report.sga = toReport(ctx, out);
+  // The differentiation index is the number of constraint generations:
+  // each was found by differentiating the one before (docs/indices.md).
+  if (out.outcome == SgaReport::Outcome::Unique)
+    ctx.report.differentiationIndex = out.generations;
+  ir::Model &m = ctx.model;
+  switch (out.outcome) {
+  case SgaReport::Outcome::NoSolution: {
+    const SgaConstraintExpr &c =
+        out.constraints[static_cast<size_t>(out.conflict)];
+    Diagnostic &d = ctx.diags.report(
+        DiagId::ErrSgaNoSolution, m.equations[c.sources.front()].loc,
+        {ir::printLsd(c.expr, &m), describeEquations(ctx, c.sources)});
+    noteEquations(ctx, d, c.sources);
+    return false;
+  }
+  case SgaReport::Outcome::NotUnique: {
+    std::vector<std::string> names = ctx.report.sga->undetermined;
+    Diagnostic &d = ctx.diags.report(
+        DiagId::ErrSgaNotUnique,
+        names.empty() ? m.loc
+                      : m.variables[out.form.columns[out.freeColumns[0]].var].loc,
+        {std::to_string(out.freeFunctions), quotedList(names)});
+    for (size_t i = 0; i < out.freeColumns.size() && i < kMaxNotes; ++i) {
+      ir::VarId v = out.form.columns[static_cast<size_t>(out.freeColumns[i])].var;
+      DiagnosticEngine::addNote(d, m.variables[v].loc,
+                                DiagId::NoteVariableDeclared,
+                                {m.variables[v].name});
+    }
+    return false;
+  }
+  case SgaReport::Outcome::Unique:
+    break;
+  }
+  if (!out.redundant.empty()) {
+    Diagnostic &d = ctx.diags.report(
+        DiagId::WarnSgaRedundant, m.equations[out.redundant.front()].loc,
+        {describeEquations(ctx, out.redundant),
+         out.redundant.size() == 1 ? "it" : "them"});
+    noteEquations(ctx, d, out.redundant);
+    // The sga and ode methods keep them: their vector field picks
+    // independent rows by itself.
+    if (!always_)
+      dropEquations(m, out, out.redundant);
+  }
+  return true;
+}
+
+class SgaCheckPass
+    : public TypedPass<SgaCheckPass, Reads<SgaResult>,
+                       Updates<ir::DaeSystem>, Produces<>> {
+public:
+  SgaCheckPass() : TypedPass(PassId::SgaCheck) {}
+  bool runOn(PassContext &ctx, const SgaResult &sga, ir::DaeSystem &sys);
+};
+
+bool SgaCheckPass::runOn(PassContext &ctx, const SgaResult &sga,
+                         ir::DaeSystem &sys) {
+  if (!sga.ran || sga.outcome != SgaReport::Outcome::Unique)
+    return true;
+  const int structural = ctx.report.dof;
+  if (structural == sga.dof)
+    return true;
+  // The equations behind the constraints structure did not see.
+  std::vector<int> eqs;
+  for (const SgaConstraintExpr &c : sga.constraints)
+    for (int e : c.sources)
+      if (std::find(eqs.begin(), eqs.end(), e) == eqs.end())
+        eqs.push_back(e);
+  std::string why =
+      structural > sga.dof
+          ? "the derivatives the model's equations contain are dependent "
+            "(a singular derivative matrix or a cancellation), so " +
+                std::to_string(structural - sga.dof) +
+                " more constraint(s) hold than structure sees"
+          : "structure finds constraints the equations do not impose";
+  why += "; the SGA's vector field on P_f is integrated instead (as "
+         "--method sga)";
+  Diagnostic &d = ctx.diags.report(
+      DiagId::WarnSgaStructureFooled,
+      eqs.empty() ? ctx.model.loc : ctx.model.equations[eqs.front()].loc,
+      {std::to_string(structural), std::to_string(sga.dof), why});
+  noteEquations(ctx, d, eqs);
+  ctx.report.structuralDof = structural;
+  // The SGA's vector field on P_f is what runs: the index-1 system
+  // structure built would start off P_f or stall on the singularity.
+  if (!buildSgaSystem(ctx, sga, /*project=*/true, sys))
+    return false;
+  ctx.report.dof = sga.dof;
+  ctx.finished = true;
+  return true;
+}
+
+} // namespace
+
+std::unique_ptr<Pass> createSgaPass(bool always) {
+  return std::make_unique<SgaPass>(always);
+}
+
+std::unique_ptr<Pass> createSgaCheckPass() {
+  return std::make_unique<SgaCheckPass>();
+}
+
+} // namespace ldae::passes
