@@ -117,6 +117,7 @@ static int run(int argc, char **argv) {
   passOpts.causalize = opts.causalize == "on" && opts.emit != "reduced";
   passOpts.outputs = driver::splitOutputs(opts.outputs);
   passOpts.timePasses = opts.timePasses;
+  passOpts.reportOnly = opts.analyze || (!opts.simulate && opts.emit.empty());
   passOpts.printAfter = opts.printAfter;
   passOpts.log = &std::cerr;
   passes::AnalysisResult analysis;

@@ -33,6 +33,7 @@
 #include "numeric/SparseWong.h"
 #include "numeric/WongSequence.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -246,6 +247,13 @@ std::string findConflict(PassContext &ctx, const LinearModel &lm,
     Eigen::MatrixXd w = numeric::leftPolynomialKernel(E, F, degree);
     for (Eigen::Index j = 0; j < w.cols(); ++j) {
       Eigen::VectorXd v = w.col(j) / w.col(j).cwiseAbs().maxCoeff();
+      // Lead with a positive coefficient: "(a) - d/dt (b)".
+      for (Eigen::Index i = 0; i < v.size(); ++i)
+        if (std::fabs(v(i)) >= 1e-9) {
+          if (v(i) < 0)
+            v = -v;
+          break;
+        }
       std::vector<ir::ExprRef> terms;
       std::string comb;
       rows.clear();
@@ -263,7 +271,9 @@ std::string findConflict(PassContext &ctx, const LinearModel &lm,
                    : k == 1 ? "d/dt " + eq
                             : "d" + std::to_string(k) + "/dt" +
                                   std::to_string(k) + " " + eq);
-          rows.push_back(lm.rowEquation[i]);
+          if (std::find(rows.begin(), rows.end(), lm.rowEquation[i]) ==
+              rows.end())
+            rows.push_back(lm.rowEquation[i]);
         }
       ir::ExprRef cond = ec.add(terms);
       bool violated = false;
