@@ -95,13 +95,13 @@ static int run(int argc, char **argv) {
   if (!outputsExist)
     return 2;
 
-  // 2. As many equations as unknowns: required to simulate or emit,
-  // reported (as a warning) by --analyze, which diagnoses any model.
-  bool needSquare = opts.simulate || !opts.emit.empty();
-  bool balanced = frontend::checkBalance(*model, diags, needSquare);
+  // 2. As many equations as unknowns: a warning that names what is
+  // missing or left over. The geometric algorithm (the "sga" pass) gives
+  // the verdict: redundant but consistent equations are solved without,
+  // too few or conflicting ones are errors naming the free variables or
+  // the conflict.
+  frontend::checkBalance(*model, diags, /*asError=*/false);
   diags.flush(std::cerr);
-  if (needSquare && !balanced)
-    return 1;
   if (opts.timePasses)
     std::cerr << "frontend: " << msSince(stageStart) << " ms\n";
 

@@ -140,7 +140,10 @@ private:
   /// Per constraint: the slots it reads and its partial derivatives.
   std::vector<std::vector<std::pair<int, ir::ExprRef>>> gradients_;
   std::set<int> gaveConstraint_; // rows whose remainder became a constraint
-  int dependent_ = 0; // constraints whose gradients depend on earlier ones
+  /// Remainders that held on the manifold when found: constraints the
+  /// others imply (used to name a written-out hidden constraint redundant).
+  std::vector<SgaConstraintExpr> implied_;
+  void findImpliedEquations();
 
   void buildForm();
   bool samplePoints(std::vector<Point> &pts, int *failed);
@@ -486,8 +489,14 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     double sc = 0;
     for (size_t s = 0; s < A.size(); ++s)
       sc = std::max(sc, scale[s][i]);
-    const SgaRow &own = out_.rows[i];
+    const SgaRow own = out_.rows[i]; // a copy: rows grow below
+    if (std::find(out_.redundant.begin(), out_.redundant.end(),
+                  own.sources.front()) != out_.redundant.end() &&
+        own.constraint < 0)
+      continue;
     if (holds(rows[i].rem, pts, std::max(sc, 1.0))) {
+      if (!gaveConstraint_.count(i))
+        implied_.push_back({rows[i].rem, rows[i].sources, 0});
       // A model equation whose row is implied by the others on the current
       // manifold is redundant, unless its row gave a constraint before.
       if (own.constraint < 0 && !gaveConstraint_.count(i) &&
@@ -498,21 +507,26 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     }
     addConstraint(rows[i].rem, rows[i].sources);
     gaveConstraint_.insert(i);
-    grew = true;
     int failed = -1;
     if (!samplePoints(pts, &failed)) {
       out_.conflict = static_cast<int>(out_.constraints.size()) - 1;
       return false;
     }
-    // A model equation that picks a branch of the manifold the others
-    // define but whose gradient depends on theirs there (a mechanism's
-    // redundant loop closure) is redundant too: locally implied.
+    // A model equation whose gradient depends on the constraints before
+    // it on the manifold they define (a mechanism's redundant loop
+    // closure: it at most picks a branch) is redundant, locally implied:
+    // named, and left out of the constraints.
     if (own.constraint < 0 && rows[i].sources.size() == 1 &&
-        constraintRank(pts[0]) < static_cast<int>(out_.constraints.size()) -
-                                     dependent_)
+        constraintRank(pts[0]) < static_cast<int>(out_.constraints.size())) {
       out_.redundant.push_back(own.sources.front());
-    dependent_ = static_cast<int>(out_.constraints.size()) -
-                 constraintRank(pts[0]);
+      out_.constraints.pop_back();
+      out_.rows.pop_back();
+      gradients_.pop_back();
+      if (!samplePoints(pts, &failed))
+        return false;
+      continue;
+    }
+    grew = true;
   }
   return true;
 }
@@ -537,7 +551,48 @@ int Sga::constraintRank(const Point &p) {
   return rank;
 }
 
+// An equation written as a primary constraint may be what the other
+// equations imply after differentiation (a pendulum's velocity constraint
+// written out): then a remainder found later held because of it. It is
+// redundant when the other constraints with that remainder in its place
+// still imply it.
+void Sga::findImpliedEquations() {
+  const std::vector<SgaConstraintExpr> all = out_.constraints;
+  const auto allGradients = gradients_;
+  for (size_t c = 0; c < all.size(); ++c) {
+    if (all[c].generation != 0 || all[c].sources.size() != 1)
+      continue;
+    const int e = all[c].sources.front();
+    for (const SgaConstraintExpr &phi : implied_) {
+      if (std::binary_search(phi.sources.begin(), phi.sources.end(), e))
+        continue;
+      out_.constraints.clear();
+      gradients_.clear();
+      for (size_t k = 0; k < all.size(); ++k)
+        if (k != c) {
+          out_.constraints.push_back(all[k]);
+          gradients_.push_back(allGradients[k]);
+        }
+      const size_t rowsBefore = out_.rows.size();
+      addConstraint(phi.expr, phi.sources);
+      out_.rows.resize(rowsBefore);
+      std::vector<Point> pts;
+      bool implied = samplePoints(pts, nullptr) && holds(all[c].expr, pts, 1.0);
+      out_.constraints = all;
+      gradients_ = allGradients;
+      if (implied) {
+        out_.implied.push_back(e);
+        break;
+      }
+    }
+  }
+}
+
 void Sga::finish(const std::vector<Point> &pts) {
+  // Only an over-determined model can have one (a square one would then
+  // be under-determined elsewhere).
+  if (out_.redundant.empty() && mr_.equations.size() > mr_.unknowns.size())
+    findImpliedEquations();
   const size_t ns = out_.form.slots.size(), nc = out_.form.columns.size();
   const Point &p = pts[0];
   // dim P_f: slots minus the rank of the constraints' Jacobian there.

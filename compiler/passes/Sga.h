@@ -62,6 +62,10 @@ struct SgaResult {
   /// outcome is unique.
   std::vector<int> pivotRows;
   std::vector<int> redundant; // model equations implied by the others
+  /// Equations written out that the others imply after differentiation
+  /// (a hidden constraint made explicit): redundant too, but kept, the
+  /// model then over-determined (the SGA's vector field runs it).
+  std::vector<int> implied;
   int conflict = -1;          // no_solution: the constraint that cannot hold
   std::vector<int> freeColumns; // columns in the kernel of A on P_f
   int dof = 0;                // dim P_f (slots minus constraints)

@@ -69,6 +69,8 @@ SgaReport toReport(PassContext &ctx, const SgaResult &r) {
     rep.undetermined.push_back(
         m.variables[r.form.columns[static_cast<size_t>(c)].var].name);
   rep.redundant = equationTexts(ctx, r.redundant);
+  for (const std::string &text : equationTexts(ctx, r.implied))
+    rep.redundant.push_back(text);
   if (r.conflict >= 0) {
     const SgaConstraintExpr &c = r.constraints[static_cast<size_t>(r.conflict)];
     rep.conflict = SgaConstraint{ir::printLsd(c.expr, &m),
@@ -106,17 +108,17 @@ void dropEquations(ir::Model &m, SgaResult &sga, const std::vector<int> &drop) {
   sga.redundant.clear();
 }
 
-class SgaPass
-    : public TypedPass<SgaPass, Reads<>, Updates<>, Produces<SgaResult>> {
+class SgaPass : public TypedPass<SgaPass, Reads<>, Updates<>,
+                                 Produces<SgaResult, ir::DaeSystem>> {
 public:
   explicit SgaPass(bool always) : TypedPass(PassId::Sga), always_(always) {}
-  bool runOn(PassContext &ctx, SgaResult &out);
+  bool runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys);
 
 private:
   bool always_; // the sga and ode methods: no size limit
 };
 
-bool SgaPass::runOn(PassContext &ctx, SgaResult &out) {
+bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
   out.input = sgaInput(ctx.model);
   size_t slots = 0;
   for (int o : out.input.originalOrder)
@@ -174,6 +176,23 @@ bool SgaPass::runOn(PassContext &ctx, SgaResult &out) {
     // independent rows by itself.
     if (!always_)
       dropEquations(m, out, out.redundant);
+  }
+  if (!always_ && m.equations.size() > out.input.unknowns.size()) {
+    // Consistent but over-determined (a hidden constraint written out):
+    // index reduction needs a square system, the SGA's vector field on
+    // P_f does not.
+    Diagnostic &d = ctx.diags.report(
+        DiagId::WarnSgaOverDetermined,
+        out.implied.empty() ? m.loc : m.equations[out.implied.front()].loc,
+        {std::to_string(m.equations.size()),
+         std::to_string(out.input.unknowns.size()),
+         out.implied.empty() ? std::string("the extra equations are")
+                             : describeEquations(ctx, out.implied) +
+                                   (out.implied.size() == 1 ? " is" : " are")});
+    noteEquations(ctx, d, out.implied);
+    if (!buildSgaSystem(ctx, out, /*project=*/true, sys))
+      return false;
+    ctx.finished = true;
   }
   return true;
 }
