@@ -110,7 +110,24 @@ struct Reducer {
     for (int r = 0; r < nr; ++r) {
       prune(E[r], r, eCol);
       prune(F[r], r, fCol);
+      equilibrate(r);
     }
+  }
+
+  /// Scales row r (E and F alike: a left multiplication, which the Wong
+  /// sequences ignore) so that its E part, or its F part when E is zero,
+  /// has largest entry 1: a capacitance of 1e-12 beside an inductance of
+  /// 1 must not read as a rank drop of E11.
+  void equilibrate(int r) {
+    double s = 0;
+    for (const auto &[c, v] : E[r].empty() ? F[r] : E[r])
+      s = std::max(s, std::fabs(v));
+    if (s == 0)
+      return;
+    for (auto &[c, v] : E[r])
+      v /= s;
+    for (auto &[c, v] : F[r])
+      v /= s;
   }
 
   static void prune(SparseRow &row, int r,

@@ -46,8 +46,11 @@ struct PencilOptions {
   /// Rank tolerance relative to the larger max-norm of E and F.
   double tol = 1e-10;
   /// Pencils with at most this many columns go straight to the dense
-  /// Wong sequences (no reduction).
-  int denseLimit = 200;
+  /// Wong sequences (no reduction). 0 by default: the reduction decides
+  /// ranks relative to each row (scale-free), the dense sequences relative
+  /// to the norm of the whole pencil, which a capacitance of 1e-9 beside a
+  /// resistance of 1e3 defeats.
+  int denseLimit = 0;
   /// Largest reduced pencil the dense fallback accepts.
   int denseFallbackLimit = 1500;
 };
