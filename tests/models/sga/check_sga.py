@@ -402,6 +402,22 @@ CASES = {
         sample=lambda rng, p: dict(
             x1=rng.choice([math.asin(p["s"]), math.pi - math.asin(p["s"])]),
             x2=0.0, x3=uniform(rng, -1, 1), u=-p["s"], time=0.0)),
+    "sliding-transversal-alias": Case(
+        "sliding_control.lsd", "SlidingTransversalAlias", "unique",
+        ["x1", "x2", "x3", "u"], dof=2, free=0,
+        gens=[["x1 + x2"], ["x2 + sin(x1) + u"]], gen1_from=["x1 + x2 = 0"],
+        undetermined=[], index=2,
+        sample=lambda rng, p: dict(
+            x1=(x1 := uniform(rng, -1, 1)), x2=-x1, x3=uniform(rng, -1, 1),
+            u=x1 - math.sin(x1), time=0.0)),
+    "sliding-tangent-alias": Case(
+        "sliding_control.lsd", "SlidingTangentAlias", "unique",
+        ["x1", "x2", "x3", "u"], params=dict(c=0.3), dof=1, free=0,
+        gens=[["x1 - c"], ["x2"], ["sin(x1) + u"]],
+        gen1_from=["x1 - c = 0"], undetermined=[], index=3,
+        sample=lambda rng, p: dict(x1=p["c"], x2=0.0,
+                                   x3=uniform(rng, -1, 1),
+                                   u=-math.sin(p["c"]), time=0.0)),
     # seed 001 §7
     "pendulum-variable-length": Case(
         "pendulum_variable_length.lsd", "PendulumVariableLength", "unique",
