@@ -18,8 +18,8 @@
 // included) brought onto R_{q+s} by Gauss–Newton; each step takes the
 // codimension most of kPoints points agree on. Nothing is decided from
 // syntactic zeros. See docs/indices.md.
+#include "passes/FormalIndex.h"
 #include "passes/Passes.h"
-#include "passes/Results.h"
 
 #include "ir/Differentiate.h"
 #include "ir/Evaluate.h"
@@ -37,19 +37,8 @@ namespace ldae::passes {
 
 namespace {
 
-/// Jet coordinates of J_q (unknowns times q + 1) above which the dense
-/// rank tests are not attempted: the report gives `null`. docs/indices.md
-/// has the measured cost of a 1,000-unknown model.
-constexpr size_t kMaxJetCoordinates = 600;
 constexpr int kPoints = 3;    // random points per step (majority vote)
 constexpr int kAttempts = 8;  // random starts per point before giving up
-
-/// "formal-index": the index, or why there is none.
-struct FormalIndexResult {
-  std::optional<int> index;
-  std::string reason;
-  std::vector<int> dimensions; // of R_q^(s) in J_q, s = 0, 1, ...
-};
 
 /// The model as written: its continuous unknowns (numbered in declaration
 /// order) and the order q of its jet space.
@@ -291,17 +280,7 @@ public:
   FormalIndexPass() : TypedPass(PassId::FormalIndex) {}
 
   bool runOn(PassContext &ctx, FormalIndexResult &out) {
-    JetSpace jet(ctx.model);
-    const size_t coordinates = jet.unknowns.size() * (jet.q + 1);
-    if (jet.unknowns.empty() || ctx.model.equations.empty()) {
-      out.reason = "no equations over unknowns";
-    } else if (coordinates > kMaxJetCoordinates) {
-      out.reason = std::to_string(coordinates) +
-                   " jet coordinates, above the dense limit of " +
-                   std::to_string(kMaxJetCoordinates);
-    } else {
-      out = FormalIndex(ctx.model, jet).run();
-    }
+    out = formalIndex(ctx.model);
     ctx.report.formalIndex = out.index;
     ctx.report.formalIndexNote = out.reason;
     ctx.report.formalDimensions = out.dimensions;
@@ -310,6 +289,21 @@ public:
 };
 
 } // namespace
+
+FormalIndexResult formalIndex(const ir::Model &model, size_t maxCoordinates) {
+  JetSpace jet(model);
+  const size_t coordinates = jet.unknowns.size() * (jet.q + 1);
+  FormalIndexResult out;
+  if (jet.unknowns.empty() || model.equations.empty())
+    out.reason = "no equations over unknowns";
+  else if (coordinates > maxCoordinates)
+    out.reason = std::to_string(coordinates) +
+                 " jet coordinates, above the dense limit of " +
+                 std::to_string(maxCoordinates);
+  else
+    out = FormalIndex(model, jet).run();
+  return out;
+}
 
 std::unique_ptr<Pass> createFormalIndexPass() {
   return std::make_unique<FormalIndexPass>();
