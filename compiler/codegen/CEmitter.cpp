@@ -247,6 +247,9 @@ const char *kChunkParams =
     "double *restrict out1, double *restrict tmp)";
 
 std::string exportedParams(FnSig sig) {
+  if (sig == FnSig::State)
+    return "(double t, const double *restrict y, const double *restrict p, "
+           "double *restrict out0)";
   std::string s = "(double t, const double *restrict y, const double "
                   "*restrict yp, const double *restrict p, ";
   if (sig == FnSig::Jacobian)
@@ -346,6 +349,9 @@ void printFunction(std::ostream &os, const CodePlan &plan,
     }
   }
   os << "int " << sym << exportedParams(fn.sig) << " {\n";
+  // A function over (t, y) hands its chunks y as the never-read yp.
+  if (fn.sig == FnSig::State)
+    os << "  const double *const yp = y;\n";
   if (fn.sig != FnSig::Jacobian)
     os << "  const double cj = 0.0;\n";
   if (fn.sig != FnSig::InitJacobian)
@@ -448,6 +454,12 @@ std::string printC(const CodePlan &plan, bool withMain) {
   }
   printArray(os, "int", s + "_init_colptr", plan.initColptr, integer);
   printArray(os, "int", s + "_init_rowind", plan.initRowind, integer);
+  const bool tested = !plan.testedNominal.empty();
+  if (tested) {
+    printArray(os, "double", s + "_tested_nominal", plan.testedNominal, dbl);
+    printArray(os, "int", s + "_tested_colptr", plan.testedColptr, integer);
+    printArray(os, "int", s + "_tested_rowind", plan.testedRowind, integer);
+  }
   os << "static const ldae_state_set " << s << "_state_sets[] = {\n";
   for (size_t i = 0; i < plan.stateSets.size(); ++i) {
     const StateSetPlan &sp = plan.stateSets[i];
@@ -472,7 +484,9 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << "  " << plan.nOutputs << ", " << s << "_output_names, "
      << fnRef(plan.outputs) << ",\n"
      << "  " << plan.nDrift << ", " << fnRef(plan.drift) << ",\n"
-     << "  0, 0, 0, 0, 0,\n"
+     << "  " << plan.nOde << ", " << plan.nConstraints << ", 0, "
+     << fnRef(plan.constraints) << ", " << fnRef(plan.constraintJacobian)
+     << ",\n"
      << "  " << (plan.residualOrigin.empty() ? "0" : s + "_residual_origin")
      << ",\n"
      << "  " << number(plan.startTime) << ", " << number(plan.stopTime) << ", "
@@ -481,7 +495,14 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << "_init_rowind, " << fnRef(plan.initJacobianCsc) << ",\n"
      << "  " << (plan.outputOrigin.empty() ? "0" : s + "_output_origin")
      << ",\n  " << (plan.explicitOde ? 1 : 0) << ", "
-     << (plan.algebraicErrorTest ? 1 : 0) << "\n};\n\n"
+     << (plan.algebraicErrorTest ? 1 : 0) << ", "
+     << (plan.projectConstraints ? 1 : 0) << ",\n  "
+     << plan.testedNominal.size() << ", "
+     << (tested ? s + "_tested_nominal" : "0") << ", " << fnRef(plan.tested)
+     << ", " << plan.testedRowind.size() << ", "
+     << (tested ? s + "_tested_colptr" : "0") << ", "
+     << (tested ? s + "_tested_rowind" : "0") << ", "
+     << fnRef(plan.testedJacobianCsc) << "\n};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
   if (withMain) {

@@ -588,6 +588,40 @@ void cscPattern(const std::vector<JacEntry> &entries, unsigned n,
     colptr[j + 1] += colptr[j];
 }
 
+/// The geometric slots of a linearly implicit system (`--method sga|ode`):
+/// n_ode, the projection flag, the constraints and their dense Jacobian
+/// dc/dy (column-major, one row per constraint), read through a layout
+/// without derivatives, so a constraint that reads y' fails to lower.
+template <typename AddFunction>
+static void planGeometricSlots(const ir::DaeSystem &sys, CodePlan &plan,
+                               ir::Differentiator &diff,
+                               AddFunction &addFunction) {
+  const unsigned n = sys.unknowns.size();
+  plan.nOde = n;
+  plan.explicitOde = false;
+  plan.projectConstraints = sys.projectOntoConstraints;
+  if (sys.constraints.empty())
+    return;
+  KeyMap stateKeys = buildKeyMap(sys, std::vector<bool>(n, false));
+  const std::vector<ExprRef> &c = sys.constraints;
+  const unsigned m = c.size();
+  plan.nConstraints = m;
+  plan.constraints = addFunction(
+      "constraints", FnSig::State, stateKeys,
+      [&](FunctionBuilder &b, PlanFunction &) {
+        for (uint32_t i = 0; i < m; ++i)
+          b.store(b.lower(c[i]), 0, i, i);
+      });
+  std::vector<JacEntry> entries = jacobianEntries(sys, c, stateKeys, diff);
+  plan.constraintJacobian = addFunction(
+      "constraint_jacobian", FnSig::State, stateKeys,
+      [&](FunctionBuilder &b, PlanFunction &fn) {
+        fn.zeroFill[0] = m * n;
+        for (const JacEntry &e : entries)
+          b.store(b.lower(e.dy), 0, e.col * m + e.row, e.row);
+      });
+}
+
 Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                                const PlanOptions &opts) {
   const unsigned n = sys.unknowns.size();
@@ -766,8 +800,26 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
     outs.push_back(o.value);
   plan.nOutputs = outs.size();
   plan.outputs = valuesFunction("outputs", outs, keys);
+  if (!sys.tested.empty()) {
+    std::vector<ExprRef> tested;
+    for (const ir::TestedValue &v : sys.tested) {
+      tested.push_back(v.value);
+      plan.testedNominal.push_back(v.nominal);
+    }
+    plan.tested = valuesFunction("tested", tested, keys);
+    std::vector<JacEntry> entries = jacobianEntries(sys, tested, keys, diff);
+    cscPattern(entries, n, plan.testedColptr, plan.testedRowind);
+    plan.testedJacobianCsc = addFunction(
+        "tested_jac_csc", FnSig::Jacobian, keys,
+        [&](FunctionBuilder &b, PlanFunction &) {
+          for (uint32_t k = 0; k < entries.size(); ++k)
+            b.store(jacobianValue(b, entries[k]), 0, k, entries[k].row);
+        });
+  }
   plan.nDrift = sys.constraints.size();
   plan.drift = valuesFunction("drift", sys.constraints, keys);
+  if (sys.linearlyImplicit)
+    planGeometricSlots(sys, plan, diff, addFunction);
   if (opts.bindings) {
     std::vector<ExprRef> values = planBindings(sys, plan);
     plan.bind = valuesFunction("bind", values, keys);

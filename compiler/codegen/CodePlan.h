@@ -94,6 +94,8 @@ enum class FnSig {
   Values,       // int f(double t, y, yp, p, double *out)
   Jacobian,     // int f(double t, y, yp, p, double cj, double *out)
   InitJacobian, // int f(double t, y, yp, p, double *out0, double *out1)
+  State,        // int f(double t, y, p, double *out): over t and y only
+                // (the geometric slots; yp reads are a lowering error)
 };
 
 /// A contiguous range of nodes compiled into one machine function, with the
@@ -175,7 +177,18 @@ struct CodePlan {
   std::vector<std::string> varNames, paramNames, outputNames, residualOrigin;
   std::vector<std::string> outputOrigin; // empty, or one per output
   bool explicitOde = false; // ldae_model::explicit_ode
+  /// The geometric slots (--method sga|ode): n_ode = n when the system is
+  /// linearly implicit, with the constraints c(t, y) and dc/dy (dense,
+  /// nConstraints x n, column-major).
+  unsigned nOde = 0, nConstraints = 0;
+  int constraints = -1, constraintJacobian = -1;
+  bool projectConstraints = false; // ldae_model::project_constraints
   bool algebraicErrorTest = true; // ldae_model::algebraic_error_test
+  /// ldae_model::tested: values, nominal values, dz/dy (FnSig::Jacobian at
+  /// cj = 0) in a CSC pattern; -1 / empty when there are none.
+  int tested = -1, testedJacobianCsc = -1;
+  std::vector<double> testedNominal;
+  std::vector<int> testedColptr, testedRowind;
   std::vector<double> startY, startYp, nominal, paramValues;
   std::vector<int> fixed;
   double startTime, stopTime, tolerance, interval; // NaN when unset

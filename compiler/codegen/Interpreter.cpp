@@ -262,12 +262,20 @@ int initJacobianThunk(double t, const double *y, const double *yp,
                    out0, out1);
 }
 
+/// A function over (t, y) only: y stands in for the never-read yp.
+template <size_t S>
+int stateThunk(double t, const double *y, const double *p, double *out) {
+  return interpret(*gSlots[S].load(std::memory_order_relaxed), t, y, y, p, 0,
+                   out, nullptr);
+}
+
 template <size_t... S>
 constexpr auto makeThunks(std::index_sequence<S...>) {
-  return std::array<std::array<uintptr_t, 3>, sizeof...(S)>{
+  return std::array<std::array<uintptr_t, 4>, sizeof...(S)>{
       {{reinterpret_cast<uintptr_t>(&valuesThunk<S>),
         reinterpret_cast<uintptr_t>(&jacobianThunk<S>),
-        reinterpret_cast<uintptr_t>(&initJacobianThunk<S>)}...}};
+        reinterpret_cast<uintptr_t>(&initJacobianThunk<S>),
+        reinterpret_cast<uintptr_t>(&stateThunk<S>)}...}};
 }
 
 const auto gThunks = makeThunks(std::make_index_sequence<kInterpreterSlots>());

@@ -331,11 +331,14 @@ private:
 /// reordered freely; this also keeps instruction scheduling linear.
 void setPointerAttributes(const CodePlan &plan, llvm::Function *f,
                           std::vector<unsigned> inputs,
-                          std::vector<unsigned> outputs) {
+                          std::vector<unsigned> outputs,
+                          unsigned paramsArg = 3) {
+  if (paramsArg != 3)
+    inputs.push_back(paramsArg);
   for (unsigned i : inputs) {
     f->addParamAttr(i, llvm::Attribute::ReadOnly);
     f->addParamAttr(i, llvm::Attribute::NoCapture);
-    uint64_t size = i == 3 ? plan.paramValues.size() : plan.n;
+    uint64_t size = i == paramsArg ? plan.paramValues.size() : plan.n;
     if (size)
       f->addDereferenceableParamAttr(i, size * 8);
   }
@@ -461,7 +464,10 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
   llvm::Type *dbl = b.getDoubleTy(), *ptr = b.getPtrTy(), *i32 = b.getInt32Ty();
 
   // Exported signature per FnSig.
-  std::vector<llvm::Type *> params = {dbl, ptr, ptr, ptr};
+  bool state = fn.sig == FnSig::State; // (t, y, p, out): no yp
+  std::vector<llvm::Type *> params = {dbl, ptr, ptr};
+  if (!state)
+    params.push_back(ptr);
   if (fn.sig == FnSig::Jacobian)
     params.push_back(dbl);
   params.push_back(ptr);
@@ -475,19 +481,24 @@ void emitFunction(llvm::Module &m, const CodePlan &plan,
   auto arg = [&](unsigned i) -> llvm::Value * { return f->getArg(i); };
   args.t = arg(0);
   args.y = arg(1);
-  args.yp = arg(2);
-  args.p = arg(3);
-  unsigned next = 4;
+  // A function over (t, y) hands its chunks y as the never-read yp (a
+  // dereferenceable pointer, unlike null).
+  args.yp = state ? args.y : arg(2);
+  args.p = state ? arg(2) : arg(3);
+  unsigned next = state ? 3 : 4;
   llvm::Value *nullPtr = llvm::ConstantPointerNull::get(b.getPtrTy());
   args.cj = fn.sig == FnSig::Jacobian ? arg(next++)
                                       : llvm::ConstantFP::get(dbl, 0.0);
   args.out0 = arg(next++);
   args.out1 = fn.sig == FnSig::InitJacobian ? arg(next++) : nullPtr;
   std::vector<unsigned> outs;
-  for (unsigned i = 4; i < f->arg_size(); ++i)
+  for (unsigned i = state ? 3 : 4; i < f->arg_size(); ++i)
     if (f->getArg(i)->getType()->isPointerTy())
       outs.push_back(i);
-  setPointerAttributes(plan, f, {1, 2, 3}, outs);
+  if (state)
+    setPointerAttributes(plan, f, {1}, outs, 2);
+  else
+    setPointerAttributes(plan, f, {1, 2, 3}, outs);
 
   std::vector<llvm::Function *> reductions;
   auto *reduceTy = llvm::FunctionType::get(

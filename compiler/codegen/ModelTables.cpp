@@ -28,7 +28,7 @@ ModelTables::ModelTables(const CodePlan &plan) {
   // Reserve so pointers into the vectors of vectors stay valid.
   strings_.reserve(8);
   pointers_.reserve(8);
-  ints_.reserve(3 * plan.stateSets.size() + 3);
+  ints_.reserve(3 * plan.stateSets.size() + 5);
   name_ = plan.name;
   startY_ = plan.startY;
   startYp_ = plan.startYp;
@@ -56,12 +56,21 @@ ModelTables::ModelTables(const CodePlan &plan) {
   m.n_outputs = plan.nOutputs;
   m.output_names = names(plan.outputNames);
   m.n_drift = plan.nDrift;
+  m.n_ode = plan.nOde;
+  m.n_constraints = plan.nConstraints;
+  m.project_constraints = plan.projectConstraints ? 1 : 0;
   m.residual_origin =
       plan.residualOrigin.empty() ? nullptr : names(plan.residualOrigin);
   m.output_origin =
       plan.outputOrigin.empty() ? nullptr : names(plan.outputOrigin);
   m.explicit_ode = plan.explicitOde ? 1 : 0;
   m.algebraic_error_test = plan.algebraicErrorTest ? 1 : 0;
+  testedNominal_ = plan.testedNominal;
+  m.n_tested = static_cast<int>(plan.testedNominal.size());
+  m.tested_nominal = testedNominal_.data();
+  if (m.n_tested > 0)
+    m.tested_jac_nnz = pattern(plan.testedColptr, plan.testedRowind,
+                               m.tested_jac_colptr, m.tested_jac_rowind);
   m.start_time = plan.startTime;
   m.stop_time = plan.stopTime;
   m.tolerance = plan.tolerance;
@@ -102,6 +111,10 @@ void ModelTables::setFunctions(const CodePlan &plan,
   fn(plan.roots, model_.roots);
   fn(plan.outputs, model_.outputs);
   fn(plan.drift, model_.drift);
+  fn(plan.tested, model_.tested);
+  fn(plan.testedJacobianCsc, model_.tested_jacobian_csc);
+  fn(plan.constraints, model_.constraints);
+  fn(plan.constraintJacobian, model_.constraint_jacobian);
 }
 
 } // namespace ldae::codegen

@@ -37,7 +37,7 @@ private:
   ldae_model model_{};
   std::vector<std::vector<std::string>> strings_;
   std::vector<std::vector<const char *>> pointers_;
-  std::vector<double> startY_, startYp_, nominal_, params_;
+  std::vector<double> startY_, startYp_, nominal_, params_, testedNominal_;
   std::vector<int> fixed_;
   std::vector<std::vector<int>> ints_; // differential flags, patterns
   std::vector<ldae_state_set> sets_;

@@ -190,6 +190,62 @@ SampleSystem makeChain(unsigned n, bool shuffle, bool initial = false) {
 
 } // namespace
 
+SampleSystem robertsonSga(bool project) {
+  Builder b("robertson_sga");
+  auto &c = b.c();
+  ExprRef k1 = b.param("k1", 0.04), k2 = b.param("k2", 3e7),
+          k3 = b.param("k3", 1e4);
+  ExprRef y1 = b.state("y1", true, 1), y2 = b.state("y2", true, 0),
+          y3 = b.state("y3", true, 0);
+  ExprRef y2y3 = c.mul(k3, c.mul(y2, y3));
+  std::vector<ExprRef> rates = {b.der(y1), b.der(y2), b.der(y3)};
+  b.singleSet({c.sub(b.der(y1), c.add(c.mul(c.neg(k1), y1), y2y3)),
+               c.sub(b.der(y2), c.sub(c.sub(c.mul(k1, y1), y2y3),
+                                      c.mul(k2, c.pow(y2, c.constant(2))))),
+               c.add(rates)});
+  b.sys().constraints = {c.sub(c.add(c.add(y1, y2), y3), c.one())};
+  b.sys().linearlyImplicit = true;
+  b.sys().projectOntoConstraints = project;
+  b.output("y1", y1);
+  b.output("y2", y2);
+  b.output("y3", y3);
+  return b.take();
+}
+
+SampleSystem cartesianPendulumSga(double theta0, bool project) {
+  Builder b("pendulum_sga");
+  auto &c = b.c();
+  const double gv = 9.81, Lv = 1.0;
+  ExprRef g = b.param("g", gv), L = b.param("L", Lv);
+  ExprRef x = b.state("x", true, Lv * std::sin(theta0)),
+          y = b.state("y", true, -Lv * std::cos(theta0)),
+          u = b.state("u", true, 0), v = b.state("v", true, 0),
+          lam = b.state("lambda", true, gv * std::cos(theta0) / Lv);
+  ExprRef two = c.constant(2);
+  ExprRef r2 = c.add(c.pow(x, two), c.pow(y, two));
+  ExprRef c1 = c.sub(r2, c.pow(L, two));
+  ExprRef c2 = c.add(c.mul(x, u), c.mul(y, v));
+  ExprRef c3 = c.sub(c.sub(c.add(c.pow(u, two), c.pow(v, two)), c.mul(lam, r2)),
+                     c.mul(g, y));
+  // d/dt c3 = 2 u u' + 2 v v' - lambda' r2 - 2 lambda (x x' + y y') - g y'.
+  std::vector<ExprRef> terms = {
+      c.mul(two, c.mul(u, b.der(u))), c.mul(two, c.mul(v, b.der(v))),
+      c.neg(c.mul(b.der(lam), r2)),
+      c.neg(c.mul(two, c.mul(lam, c.add(c.mul(x, b.der(x)),
+                                        c.mul(y, b.der(y)))))),
+      c.neg(c.mul(g, b.der(y)))};
+  ExprRef dc3 = c.add(terms);
+  b.singleSet({c.sub(b.der(x), u), c.sub(b.der(y), v),
+               c.add(b.der(u), c.mul(lam, x)),
+               c.add(c.add(b.der(v), c.mul(lam, y)), g), dc3});
+  b.sys().constraints = {c1, c2, c3};
+  b.sys().linearlyImplicit = true;
+  b.sys().projectOntoConstraints = project;
+  for (ExprRef e : {x, y, u, v, lam})
+    b.output(b.model().variableName(e->varKey()), e);
+  return b.take();
+}
+
 SampleSystem chain(unsigned n) { return makeChain(n, false); }
 
 SampleSystem shuffledChain(unsigned n) { return makeChain(n, true); }

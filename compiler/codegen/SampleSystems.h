@@ -24,6 +24,19 @@ SampleSystem robertson();
 /// der(x), der(vx)); 1x1 pivots y and x.
 SampleSystem pendulum();
 
+/// The Cartesian pendulum (x, y, u, v, lambda; g = 9.81, L = 1, released
+/// from rest at the angle theta0 from the vertical, lambda consistent) in
+/// the linearly implicit form `--method sga|ode` hands over: rows
+/// x' - u, y' - v, u' + lambda x, v' + lambda y + g and the time derivative
+/// of the third constraint (which holds lambda'), every unknown
+/// differential; constraints x^2 + y^2 - L^2, x u + y v,
+/// u^2 + v^2 - lambda (x^2 + y^2) - g y (also the drift). `project`: sga.
+SampleSystem cartesianPendulumSga(double theta0, bool project);
+
+/// Robertson's kinetics in the same form: y1, y2, y3 all differential,
+/// the third row the derivative of y1 + y2 + y3 = 1 (the constraint).
+SampleSystem robertsonSga(bool project);
+
 /// n coupled nonlinear oscillators:
 /// der(x[i]) = k*(x[i-1] - 2*x[i] + x[i+1]) - a*x[i]^3 (+ sin(t) at i = 0).
 SampleSystem chain(unsigned n);

@@ -60,14 +60,21 @@ void defineOptions(CLI::App &app, Options &o) {
       ->check(CLI::IsMember({"on", "off", "auto"}));
   app.add_option("--integrator", o.integrator,
                  "auto (default): CVODE (BDF) for an explicit ODE, IDA "
-                 "otherwise; ida; cvode (BDF) or cvode-bdf; cvode-adams "
-                 "(non-stiff); CVODE needs the ODE form (--analyze shows it)")
+                 "otherwise, and for --method sga|ode CVODE Adams moving "
+                 "to BDF when the model turns out stiff; ida; cvode (BDF) "
+                 "or cvode-bdf; cvode-adams (non-stiff); CVODE needs the "
+                 "ODE form (--analyze shows it) or --method sga|ode")
       ->check(CLI::IsMember(integratorSpellings()));
   // Checked against the spellings first, so the conversion cannot fail.
   app.add_option_function<std::string>(
          "--method",
          [&o](const std::string &m) { o.method = *passes::parseMethod(m); },
-         "integration method: dd|sga|ode|raw (default dd)")
+         "integration method: dd (default: index reduction by dummy "
+         "derivatives, then IDA or CVODE); sga (the geometric algorithm's "
+         "vector field on its final constraint manifold P_f, with CVODE, "
+         "projected onto every constraint after each step); ode (the same "
+         "without the projection: shows the drift); raw (the system as "
+         "written)")
       ->check(CLI::IsMember(std::vector<std::string>(
           passes::kMethodSpellings.begin(), passes::kMethodSpellings.end())));
   app.add_option("--causalize", o.causalize,

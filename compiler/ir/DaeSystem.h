@@ -50,6 +50,13 @@ struct StateSet {
   std::vector<VarKey> keys;
 };
 
+/// An unknown of the index-1 system that the causal form computes outside
+/// the integrator: the error test still controls it (ldae_model::tested).
+struct TestedValue {
+  ExprRef value = nullptr; // over y, y' as the layout rule says
+  double nominal = 1;
+};
+
 /// A reported variable computed from the unknowns (aliases, solved-out).
 struct SystemOutput {
   std::string name;
@@ -91,6 +98,8 @@ struct DaeSystem {
   /// The differential index of the system as handed to the integrator: 1
   /// when reduced, the model's own under `--method raw`.
   int index = 1;
+  /// The causalized unknowns, in assignment order (empty before causalize).
+  std::vector<TestedValue> tested;
 };
 
 /// Whether slot i of state set `set` is differential (a set without its

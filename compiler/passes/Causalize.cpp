@@ -461,6 +461,10 @@ bool Causalizer::rebuild() {
     for (ir::ExprRef &e : st.pivot)
       e = subst.apply(e);
   }
+  next.tested.clear();
+  for (const Assignment &a : assignments_)
+    next.tested.push_back({subst.apply(ctx_.var(key(a.unknown))),
+                           sys_.unknowns[a.unknown].nominal});
   for (ir::ExprRef &e : next.initialResiduals)
     e = subst.apply(e);
   for (ir::ExprRef &e : next.constraints)
@@ -484,6 +488,8 @@ bool Causalizer::rebuild() {
   all.insert(all.end(), next.roots.begin(), next.roots.end());
   for (const ir::SystemOutput &o : next.outputs)
     all.push_back(o.value);
+  for (const ir::TestedValue &v : next.tested)
+    all.push_back(v.value);
   for (const ir::StateSet &st : next.stateSets) {
     all.insert(all.end(), st.residuals.begin(), st.residuals.end());
     all.insert(all.end(), st.pivot.begin(), st.pivot.end());

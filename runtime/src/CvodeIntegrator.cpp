@@ -1,10 +1,15 @@
-// CVODE set-up and stepping for an explicit-ODE ldae_model (see
-// CvodeIntegrator.h). Every SUNDIALS return value is checked; CVODE's own
-// error printing is replaced by a handler that keeps the last message.
+// CVODE set-up and stepping for an explicit-ODE or a linearly implicit
+// ldae_model (see CvodeIntegrator.h). Every SUNDIALS return value is
+// checked; CVODE's own error printing is replaced by a handler that keeps
+// the last message.
 #include "CvodeIntegrator.h"
+#include "ConstraintProjection.h"
+#include "ImplicitOde.h"
 #include "SundialsSupport.h"
 
+#include <Eigen/Eigenvalues>
 #include <cvode/cvode.h>
+#include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -22,9 +27,33 @@ namespace {
 
 using Data = Integrator::CallbackData;
 
-/// f(t, y) = -F(t, y, 0): row i of an explicit ODE's residual is
-/// y'[i] - f_i(t, y).
-int evalRhs(const Data &d, double t, const double *y, double *ydot) {
+/// CVODE's user data: the callbacks shared with IDA, and for a linearly
+/// implicit model its vector field and projection.
+struct Callbacks {
+  Data *d = nullptr;
+  ImplicitOde *implicit = nullptr;         // null: an explicit ODE
+  ConstraintProjection *projection = nullptr;
+  bool singular = false; // dF/dy' was singular at a trial point
+  double stabilize = 0;
+  std::vector<double> ybuf;
+};
+
+/// f(t, y): -F(t, y, 0) for an explicit ODE (row i is y'[i] - f_i(t, y)),
+/// else the solution of the linearly implicit rows.
+int evalRhs(Callbacks &c, double t, const double *y, double *ydot) {
+  if (c.implicit) {
+    int rc = c.implicit->rhs(t, y, ydot);
+    if (rc == ImplicitOde::kSingular)
+      c.singular = true;
+    if (rc == 0 && c.stabilize > 0) {
+      c.ybuf.resize(c.d->ev->n());
+      rc = c.projection->correction(t, y, c.ybuf.data());
+      for (int i = 0; rc == 0 && i < c.d->ev->n(); ++i)
+        ydot[i] += c.stabilize * c.ybuf[i];
+    }
+    return rc;
+  }
+  const Data &d = *c.d;
   int rc = d.ev->residual(d.set, t, y, d.zeros.data(), ydot);
   if (rc == 0)
     for (int i = 0; i < d.ev->n(); ++i)
@@ -33,7 +62,8 @@ int evalRhs(const Data &d, double t, const double *y, double *ydot) {
 }
 
 int rhsFn(sunrealtype t, N_Vector y, N_Vector ydot, void *user) {
-  auto *d = static_cast<Data *>(user);
+  auto *c = static_cast<Callbacks *>(user);
+  Data *d = c->d;
   const double *py = N_VGetArrayPointer(y);
   double *pf = N_VGetArrayPointer(ydot);
   int n = d->ev->n();
@@ -41,7 +71,10 @@ int rhsFn(sunrealtype t, N_Vector y, N_Vector ydot, void *user) {
     d->nonFinite = true;
     return 1;
   }
-  int rc = Integrator::callbackStatus(*d, evalRhs(*d, t, py, pf), py);
+  int raw = evalRhs(*c, t, py, pf);
+  if (raw == ImplicitOde::kSingular)
+    return 1; // recoverable: a smaller step stays nearer the manifold
+  int rc = Integrator::callbackStatus(*d, raw, py);
   if (rc == 0 && !Integrator::finite(pf, n)) {
     d->nonFinite = true;
     return 1;
@@ -49,23 +82,29 @@ int rhsFn(sunrealtype t, N_Vector y, N_Vector ydot, void *user) {
   return rc;
 }
 
+int abiStatus(int rc) { return rc > 0 ? 1 : (rc < 0 ? -1 : 0); }
+
 /// df/dy = -dF/dy: the model's Jacobian at cj = 0, negated.
 int denseJacFn(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
                void *user, N_Vector, N_Vector, N_Vector) {
-  auto *d = static_cast<Data *>(user);
-  const ldae_state_set &s = d->ev->set(d->set);
+  auto *c = static_cast<Callbacks *>(user);
+  const Data *d = c->d;
   double *a = SUNDenseMatrix_Data(J);
+  if (c->implicit)
+    return abiStatus(c->implicit->jacobian(t, N_VGetArrayPointer(y),
+                                           N_VGetArrayPointer(fy), a));
+  const ldae_state_set &s = d->ev->set(d->set);
   int rc = s.jacobian_dense(t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy),
                             d->ev->params(), 0.0, a);
   long n = long(d->ev->n());
   for (long k = 0; k < n * n; ++k)
     a[k] = -a[k];
-  return rc > 0 ? 1 : (rc < 0 ? -1 : 0);
+  return abiStatus(rc);
 }
 
 int sparseJacFn(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
                 void *user, N_Vector, N_Vector, N_Vector) {
-  auto *d = static_cast<Data *>(user);
+  const Data *d = static_cast<Callbacks *>(user)->d;
   const ldae_state_set &s = d->ev->set(d->set);
   int n = d->ev->n();
   sundials::copyPattern(J, s, n);
@@ -74,13 +113,41 @@ int sparseJacFn(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
                           d->ev->params(), 0.0, a);
   for (int q = 0; q < s.jac_nnz; ++q)
     a[q] = -a[q];
-  return rc > 0 ? 1 : (rc < 0 ? -1 : 0);
+  return abiStatus(rc);
+}
+
+/// CVODE's projection after each step (BDF only in SUNDIALS 6.4): the
+/// Gauss-Newton correction onto the constraints, and the error estimate's
+/// normal component removed.
+int projFn(sunrealtype t, N_Vector ycur, N_Vector corr, sunrealtype,
+           N_Vector err, void *user) {
+  auto *c = static_cast<Callbacks *>(user);
+  const double *py = N_VGetArrayPointer(ycur);
+  c->ybuf.assign(py, py + c->d->ev->n());
+  int rc = c->projection->project(t, c->ybuf.data(), false,
+                                  N_VGetArrayPointer(corr));
+  if (rc == 0 && err)
+    c->projection->projectError(N_VGetArrayPointer(err));
+  return abiStatus(rc);
+}
+
+/// CVEwtFn: the error weights at the step's starting point, with y' = f.
+int ewtFn(N_Vector y, N_Vector ewt, void *user) {
+  auto *c = static_cast<Callbacks *>(user);
+  Data *d = c->d;
+  const double *py = N_VGetArrayPointer(y);
+  d->weightsYp.resize(d->ev->n());
+  if (evalRhs(*c, d->t, py, d->weightsYp.data()) != 0)
+    std::fill(d->weightsYp.begin(), d->weightsYp.end(), 0.0);
+  d->weights->compute(d->t, py, d->weightsYp.data(), N_VGetArrayPointer(ewt));
+  return 0;
 }
 
 int rootFn(sunrealtype t, N_Vector y, sunrealtype *g, void *user) {
-  auto *d = static_cast<Data *>(user);
+  auto *c = static_cast<Callbacks *>(user);
+  Data *d = c->d;
   const double *py = N_VGetArrayPointer(y);
-  if (evalRhs(*d, t, py, d->work.data()) != 0)
+  if (evalRhs(*c, t, py, d->work.data()) != 0)
     return -1;
   const ldae_model &m = d->ev->model();
   return m.roots(t, py, d->work.data(), d->ev->params(), g) == 0 ? 0 : -1;
@@ -117,6 +184,25 @@ StepStatus failure(int flag) {
   }
 }
 
+/// CVODE 6.4 projects only BDF steps. Adams (sga) integrates instead the
+/// stabilized field f(y) - gamma D (Jc D)^+ c(y), equal to f on P_f, whose
+/// drift decays at the rate gamma instead of growing (the pendulum's grows
+/// like t^3 through the lambda' row): gamma = kStabilization times
+/// ||df/dy||_inf at the start, a bound on the rates of the linearization.
+/// Larger makes Adams' steps stability-bound at loose tolerances (at 4 x
+/// this, the pendulum took more steps at rtol 1e-6 than at 1e-10).
+constexpr double kStabilization = 0.5;
+/// And it restarts from the projected point when the drift's correction
+/// exceeds this many local error tolerances (WRMS norm in CVODE's error
+/// weights): a restart resets Adams' order and costs accuracy (with 684
+/// restarts in 100 s the pendulum was 1.7e-6 off at rtol 1e-10, 1e-7 with
+/// the stabilization and none), so only as a safety net.
+constexpr double kAdamsDriftRestart = 10.0;
+/// How often Adams under `--integrator auto` looks for stiffness, and the
+/// largest model whose df/dy spectrum it computes for that.
+constexpr long kStiffnessCheckEvery = 25;
+constexpr int kStiffnessCheckMaxN = 200;
+
 } // namespace
 
 struct CvodeIntegrator::Impl {
@@ -126,14 +212,24 @@ struct CvodeIntegrator::Impl {
   SUNMatrix A = nullptr;
   SUNLinearSolver LS = nullptr;
   SUNNonlinearSolver NLS = nullptr;
-  double tstop = 0;
+  double tstop = 0, rtol = 0;
   int rootCount = 0;
   /// y' = f(t, y) at the current point, computed when first asked for.
   mutable std::vector<double> yp;
   mutable bool ypValid = false;
+  /// The current point projected onto the constraints (sga), likewise.
+  mutable std::vector<double> yOn;
+  mutable bool yOnValid = false;
   double t = 0;
+  Callbacks cb;
+  std::unique_ptr<ImplicitOde> implicit;
+  std::unique_ptr<ConstraintProjection> projection;
+  std::vector<double> pendingRestart; // the projected point to restart at
+  double pendingT = 0;
+  bool pendingSwitch = false; // Adams to BDF at the next step
+  long stepsSinceCheck = 0;
 
-  ~Impl() {
+  void freeSolver() {
     if (mem)
       CVodeFree(&mem);
     if (NLS)
@@ -142,6 +238,13 @@ struct CvodeIntegrator::Impl {
       SUNLinSolFree(LS);
     if (A)
       SUNMatDestroy(A);
+    mem = nullptr;
+    NLS = nullptr;
+    LS = nullptr;
+    A = nullptr;
+  }
+  ~Impl() {
+    freeSolver();
     for (N_Vector v : {y, atol, tmp})
       if (v)
         N_VDestroy(v);
@@ -150,15 +253,40 @@ struct CvodeIntegrator::Impl {
   }
 };
 
-CvodeIntegrator::CvodeIntegrator(const ModelEval &ev, bool adams)
-    : Integrator(ev), impl_(std::make_unique<Impl>()), adams_(adams) {
+CvodeIntegrator::CvodeIntegrator(const ModelEval &ev, Lmm lmm)
+    : Integrator(ev), impl_(std::make_unique<Impl>()),
+      adams_(lmm != Lmm::Bdf), autoChoice_(lmm == Lmm::Auto) {
   shared_.ev = &ev;
   shared_.zeros.assign(ev.n(), 0.0);
   shared_.work.assign(ev.n(), 0.0);
   impl_->yp.assign(ev.n(), 0.0);
+  impl_->yOn.assign(ev.n(), 0.0);
+  impl_->cb.d = &shared_;
+  const ldae_model &m = ev.model();
+  if (m.n_ode == m.n && m.n > 0) {
+    impl_->implicit = std::make_unique<ImplicitOde>(ev);
+    impl_->cb.implicit = impl_->implicit.get();
+    impl_->projection = std::make_unique<ConstraintProjection>(ev);
+    impl_->cb.projection = impl_->projection.get();
+    project_ = m.project_constraints != 0 && impl_->projection->active();
+  }
+  // Above this size the spectrum costs more than it can save: BDF.
+  if (autoChoice_ && ev.n() > kStiffnessCheckMaxN) {
+    adams_ = false;
+    autoChoice_ = false;
+  }
+  updateName();
 }
 
 CvodeIntegrator::~CvodeIntegrator() = default;
+
+void CvodeIntegrator::updateName() {
+  name_ = switched_ ? "CVODE (Adams, then BDF)"
+                    : adams_ ? "CVODE (Adams)" : "CVODE (BDF)";
+  if (impl_->implicit)
+    name_ += project_ ? ", projected onto the constraints"
+                      : ", linearly implicit";
+}
 
 Expected<bool> CvodeIntegrator::init(int set, double t0, const double *y,
                                      const double *, double rtol,
@@ -175,20 +303,35 @@ Expected<bool> CvodeIntegrator::init(int set, double t0, const double *y,
     return Error{"internal error: cannot allocate CVODE vectors"};
   std::copy(y, y + n, N_VGetArrayPointer(I.y));
   std::copy(atol.begin(), atol.end(), N_VGetArrayPointer(I.atol));
+  I.rtol = rtol;
+  I.tstop = tstop;
+  return create(t0);
+}
+
+Expected<bool> CvodeIntegrator::create(double t0) {
+  Impl &I = *impl_;
   I.t = t0;
   I.ypValid = false;
+  I.yOnValid = false;
   I.mem = CVodeCreate(adams_ ? CV_ADAMS : CV_BDF, I.ctx);
   if (!I.mem)
     return Error{"internal error: CVodeCreate failed"};
   LDAE_SUNDIALS_CHECK(CVodeSetErrHandlerFn(I.mem, sundials::keepMessage, &shared_));
   LDAE_SUNDIALS_CHECK(CVodeInit(I.mem, rhsFn, t0, I.y));
-  LDAE_SUNDIALS_CHECK(CVodeSetUserData(I.mem, &shared_));
-  LDAE_SUNDIALS_CHECK(CVodeSVtolerances(I.mem, rtol, I.atol));
-  I.tstop = tstop;
-  LDAE_SUNDIALS_CHECK(CVodeSetStopTime(I.mem, tstop));
+  LDAE_SUNDIALS_CHECK(CVodeSetUserData(I.mem, &I.cb));
+  shared_.t = t0;
+  if (shared_.weights)
+    LDAE_SUNDIALS_CHECK(CVodeWFtolerances(I.mem, ewtFn));
+  else
+    LDAE_SUNDIALS_CHECK(CVodeSVtolerances(I.mem, I.rtol, I.atol));
+  LDAE_SUNDIALS_CHECK(CVodeSetStopTime(I.mem, I.tstop));
   const ldae_model &m = ev_.model();
   if (m.n_roots > 0 && m.roots)
     LDAE_SUNDIALS_CHECK(CVodeRootInit(I.mem, m.n_roots, rootFn));
+  if (project_ && !adams_)
+    LDAE_SUNDIALS_CHECK(CVodeSetProjFn(I.mem, projFn));
+  if (!project_ || !adams_)
+    I.cb.stabilize = 0;
   return setupSolver();
 }
 
@@ -204,7 +347,9 @@ Expected<bool> CvodeIntegrator::setupSolver() {
   }
   const ldae_state_set &s = ev_.set(shared_.set);
   int n = ev_.n();
-  bool sparse = n > LDAE_DENSE_THRESHOLD && s.jacobian_csc && s.jac_colptr;
+  // A linearly implicit model's df/dy = -E^-1 dF/dy is dense.
+  bool sparse = !I.implicit && n > LDAE_DENSE_THRESHOLD && s.jacobian_csc &&
+                s.jac_colptr;
   I.A = sparse ? SUNSparseMatrix(n, n, std::max(s.jac_nnz, 1), CSC_MAT, I.ctx)
                : SUNDenseMatrix(n, n, I.ctx);
   if (!I.A)
@@ -218,35 +363,80 @@ Expected<bool> CvodeIntegrator::setupSolver() {
   if (sparse)
     LDAE_SUNDIALS_CHECK(CVodeSetJacFn(I.mem, sparseJacFn));
   else
-    LDAE_SUNDIALS_CHECK(CVodeSetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
+    LDAE_SUNDIALS_CHECK(CVodeSetJacFn(
+        I.mem, I.implicit || s.jacobian_dense ? denseJacFn : nullptr));
   return true;
 }
 
-Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
-                                       const double *) {
-  Impl &I = *impl_;
-  if (set != shared_.set)
-    return Error{"internal error: CVODE runs a model with one state set"};
+void CvodeIntegrator::saveCounters() {
   SimStats now;
   addCounters(now);
-  saved_ = now; // CVodeReInit zeroes CVODE's counters
-  I.rootCount = 0;
+  saved_ = now; // CVodeReInit zeroes CVODE's counters, CVodeFree loses them
+  saved_.projections = 0; // the projection counts every call itself
+  impl_->rootCount = 0;
+}
+
+Expected<bool> CvodeIntegrator::restartAt(double t, const double *y) {
+  Impl &I = *impl_;
+  saveCounters();
   std::copy(y, y + ev_.n(), N_VGetArrayPointer(I.y));
   I.t = t;
   I.ypValid = false;
+  I.yOnValid = false;
+  shared_.t = t;
   LDAE_SUNDIALS_CHECK(CVodeReInit(I.mem, t, I.y));
   LDAE_SUNDIALS_CHECK(CVodeSetStopTime(I.mem, I.tstop));
   return true;
 }
 
+Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
+                                       const double *) {
+  if (set != shared_.set)
+    return Error{"internal error: CVODE runs a model with one state set"};
+  impl_->pendingRestart.clear();
+  return restartAt(t, y);
+}
+
 StepStatus CvodeIntegrator::completeStart(double) {
   Impl &I = *impl_;
-  int rc = evalRhs(shared_, I.t, N_VGetArrayPointer(I.y), I.yp.data());
+  double *y = N_VGetArrayPointer(I.y);
+  if (I.projection && I.projection->active()) {
+    // The start onto P_f: fixed start values are conditions and stay.
+    int rc = I.projection->project(I.t, y, true);
+    if (rc != 0) {
+      if (rc != ConstraintProjection::kNoConvergence && rc > 0)
+        callbackStatus(shared_, rc, y);
+      return StepStatus::failed(FailureKind::NoStart,
+                                "projection onto the constraints");
+    }
+    if (auto re = restartAt(I.t, y); !re)
+      return StepStatus::failed(FailureKind::NoStart, re.error());
+  }
+  if (project_ && adams_) {
+    // The drift of an Adams run decays at this rate instead of growing
+    // (see kStabilization).
+    int n = ev_.n();
+    std::vector<double> f(n), J(size_t(n) * n);
+    if (I.implicit->rhs(I.t, y, f.data()) == 0 &&
+        I.implicit->jacobian(I.t, y, f.data(), J.data()) == 0)
+      I.cb.stabilize =
+          kStabilization * Eigen::Map<Eigen::MatrixXd>(J.data(), n, n)
+                               .cwiseAbs()
+                               .rowwise()
+                               .sum()
+                               .maxCoeff();
+  }
+  int rc = evalRhs(I.cb, I.t, y, I.yp.data());
   if (rc != 0) {
-    callbackStatus(shared_, rc, N_VGetArrayPointer(I.y));
-    return StepStatus::failed(rc > 0 ? FailureKind::Domain
-                                     : FailureKind::NoStart,
-                              "CV_FIRST_RHSFUNC_ERR");
+    if (rc != ImplicitOde::kSingular)
+      callbackStatus(shared_, rc, y);
+    return StepStatus::failed(rc == ImplicitOde::kSingular
+                                  ? FailureKind::LinearSetup
+                              : rc > 0 ? FailureKind::Domain
+                                       : FailureKind::NoStart,
+                              rc == ImplicitOde::kSingular
+                                  ? "dF/dy' singular"
+                                  : "CV_FIRST_RHSFUNC_ERR");
   }
   I.ypValid = true;
   return {};
@@ -258,15 +448,116 @@ Expected<bool> CvodeIntegrator::setStopTime(double tstop) {
   return true;
 }
 
+bool CvodeIntegrator::spectrum(Eigen::VectorXcd &lambda) {
+  Impl &I = *impl_;
+  int n = ev_.n();
+  if (n > kStiffnessCheckMaxN)
+    return false;
+  const double *y = N_VGetArrayPointer(I.y);
+  std::vector<double> f(n), J(size_t(n) * n);
+  if (I.implicit->rhs(I.t, y, f.data()) != 0 ||
+      I.implicit->jacobian(I.t, y, f.data(), J.data()) != 0)
+    return false;
+  Eigen::EigenSolver<Eigen::MatrixXd> es(
+      Eigen::Map<Eigen::MatrixXd>(J.data(), n, n), false);
+  if (es.info() != Eigen::Success)
+    return false;
+  lambda = es.eigenvalues();
+  return true;
+}
+
+bool CvodeIntegrator::looksStiff() {
+  Impl &I = *impl_;
+  Eigen::VectorXcd lambda;
+  if (!spectrum(lambda))
+    return false;
+  double decay = 0; // the fastest decay rate, max -Re(lambda)
+  for (Eigen::Index i = 0; i < lambda.size(); ++i)
+    decay = std::max(decay, -lambda[i].real());
+  // Stiff: Adams' step is held near its stability (and fixed-point
+  // convergence) bound h |lambda| ~ 0.1-1 by a decaying mode, and the rest
+  // of the run spans many of that mode's time constants.
+  return decay * lastStep() >= 0.1 && decay * (I.tstop - I.t) >= 1e3;
+}
+
+Expected<bool> CvodeIntegrator::switchToBdf() {
+  Impl &I = *impl_;
+  saveCounters();
+  I.freeSolver();
+  adams_ = false;
+  switched_ = true;
+  updateName();
+  if (project_)
+    I.projection->project(I.t, N_VGetArrayPointer(I.y), false);
+  return create(I.t);
+}
+
+StepStatus CvodeIntegrator::afterAdamsStep(double t) {
+  Impl &I = *impl_;
+  if (project_) {
+    // CVODE projects BDF steps only: Adams restarts from the projected
+    // point once the drift's correction exceeds the error tolerance.
+    int n = ev_.n();
+    std::vector<double> yq(N_VGetArrayPointer(I.y), N_VGetArrayPointer(I.y) + n),
+        dy(n);
+    int rc = I.projection->project(t, yq.data(), false, dy.data());
+    if (rc != 0)
+      return StepStatus::failed(FailureKind::Convergence,
+                                "projection onto the constraints");
+    if (CVodeGetErrWeights(I.mem, I.tmp) >= 0) {
+      const double *w = N_VGetArrayPointer(I.tmp);
+      double sum = 0;
+      for (int i = 0; i < n; ++i)
+        sum += (dy[i] * w[i]) * (dy[i] * w[i]);
+      // Restarted at the next step: output times within this one are
+      // still interpolated from its polynomial.
+      if (std::sqrt(sum / n) > kAdamsDriftRestart) {
+        I.pendingRestart = std::move(yq);
+        I.pendingT = t;
+      }
+    }
+  }
+  if (autoChoice_ && ++I.stepsSinceCheck >= kStiffnessCheckEvery) {
+    I.stepsSinceCheck = 0;
+    I.pendingSwitch = looksStiff(); // at the next step, as a restart
+  }
+  return {};
+}
+
 StepStatus CvodeIntegrator::step(double &tret) {
   Impl &I = *impl_;
+  if (I.pendingSwitch) {
+    I.pendingSwitch = false;
+    I.pendingRestart.clear(); // the switch projects too
+    if (!switchToBdf())
+      return StepStatus::failed(FailureKind::Other, "switch to BDF");
+  }
+  if (!I.pendingRestart.empty()) {
+    std::vector<double> y = std::move(I.pendingRestart);
+    I.pendingRestart.clear();
+    if (!restartAt(I.pendingT, y.data()))
+      return StepStatus::failed(FailureKind::Other, "CVodeReInit");
+  }
   shared_.nonFinite = false;
+  I.cb.singular = false;
   int flag = CVode(I.mem, I.tstop, I.y, &tret, CV_ONE_STEP);
   I.ypValid = false;
+  I.yOnValid = false;
   if (flag < 0) {
-    return overflowAware(failure(flag));
+    StepStatus st = overflowAware(failure(flag));
+    if (I.cb.singular && st.failure == FailureKind::Domain &&
+        shared_.domainRow < 0)
+      return StepStatus::failed(FailureKind::LinearSetup,
+                                "dF/dy' singular");
+    return st;
   }
   I.t = tret;
+  shared_.t = tret;
+  if (adams_ && I.implicit) {
+    StepStatus after = afterAdamsStep(tret);
+    if (!after.ok())
+      return after;
+  }
   if (flag == CV_ROOT_RETURN) {
     ++I.rootCount;
     return {StepStatus::Root};
@@ -280,9 +571,16 @@ Expected<bool> CvodeIntegrator::interpolate(double t, double *y, double *yp) {
   LDAE_SUNDIALS_CHECK(CVodeGetDky(I.mem, t, 0, I.tmp));
   const double *src = N_VGetArrayPointer(I.tmp);
   std::copy(src, src + ev_.n(), y);
+  // The interpolating polynomial meets the constraints only to its own
+  // error: rows of the geometric method are projected as the steps are.
+  if (project_ && I.projection->project(t, y, false) != 0)
+    return Error{fmt::format("the interpolated point at the output time "
+                             "{:.10g} cannot be projected onto the "
+                             "constraints",
+                             t)};
   // The derivative from f at the interpolated point, not the polynomial's:
   // outputs that read y' then satisfy the equations.
-  if (evalRhs(shared_, t, y, yp) != 0)
+  if (evalRhs(I.cb, t, y, yp) != 0)
     return Error{fmt::format("the right-hand side cannot be evaluated at the "
                              "output time {:.10g}",
                              t)};
@@ -290,13 +588,23 @@ Expected<bool> CvodeIntegrator::interpolate(double t, double *y, double *yp) {
 }
 
 const double *CvodeIntegrator::y() const {
-  return N_VGetArrayPointer(impl_->y);
+  Impl &I = *impl_;
+  const double *y = N_VGetArrayPointer(I.y);
+  if (!project_ || !adams_)
+    return y; // BDF's steps are projected by CVODE itself
+  if (!I.yOnValid) {
+    std::copy(y, y + ev_.n(), I.yOn.begin());
+    if (I.projection->project(I.t, I.yOn.data(), false) != 0)
+      std::copy(y, y + ev_.n(), I.yOn.begin());
+    I.yOnValid = true;
+  }
+  return I.yOn.data();
 }
 
 const double *CvodeIntegrator::yp() const {
   Impl &I = *impl_;
   if (!I.ypValid) {
-    if (evalRhs(shared_, I.t, N_VGetArrayPointer(I.y), I.yp.data()) != 0)
+    if (evalRhs(I.cb, I.t, y(), I.yp.data()) != 0)
       std::fill(I.yp.begin(), I.yp.end(), 0.0);
     I.ypValid = true;
   }
@@ -324,6 +632,8 @@ void CvodeIntegrator::addCounters(SimStats &st) const {
   st.errorTestFailures += netf + saved_.errorTestFailures;
   st.convergenceFailures += ncfn + saved_.convergenceFailures;
   st.rootsFound += impl_->rootCount + saved_.rootsFound;
+  if (impl_->projection)
+    st.projections += impl_->projection->count(); // all restarts
 }
 
 std::vector<int> CvodeIntegrator::rootsFound() const {

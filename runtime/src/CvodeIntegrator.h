@@ -3,26 +3,36 @@
 // -dF/dy, so the model's residual and Jacobian serve unchanged. BDF with
 // Newton iteration and the dense or KLU solver for stiff models; Adams with
 // fixed-point iteration (no Jacobian) for non-stiff ones.
+//
+// And for a linearly implicit one (ldae_model::n_ode = n, `--method
+// sga|ode`): f and df/dy from ImplicitOde, the start projected onto the
+// constraints, and with project_constraints every step too (CVODE's
+// projection for BDF; for Adams, which CVODE 6.4 does not project, a
+// restart from the projected point once the drift exceeds the tolerance)
+// and every output row. `Auto` starts with Adams and moves to BDF when a
+// decaying mode holds Adams' step at its stability bound.
 #pragma once
 
 #include "Integrator.h"
+
+#include <Eigen/Dense>
 
 namespace ldae::runtime {
 
 class CvodeIntegrator final : public Integrator {
 public:
-  CvodeIntegrator(const ModelEval &ev, bool adams);
+  enum class Lmm { Bdf, Adams, Auto };
+  CvodeIntegrator(const ModelEval &ev, Lmm lmm);
   ~CvodeIntegrator() override;
 
-  const char *name() const override {
-    return adams_ ? "CVODE (Adams)" : "CVODE (BDF)";
-  }
+  const char *name() const override { return name_.c_str(); }
   Expected<bool> init(int set, double t0, const double *y, const double *yp,
                       double rtol, const std::vector<double> &atol,
                       double tstop, bool errorTestAlgebraic) override;
   Expected<bool> reinit(int set, double t, const double *y,
                         const double *yp) override;
-  /// y' = f(t0, y): every unknown of an ODE is differential.
+  /// y' = f(t0, y): every unknown of an ODE is differential (a linearly
+  /// implicit model's start is projected onto its constraints first).
   StepStatus completeStart(double tout1) override;
   Expected<bool> setStopTime(double tstop) override;
   StepStatus step(double &tret) override;
@@ -37,11 +47,26 @@ public:
   double iterationCj() const override;
 
 private:
+  Expected<bool> create(double t0);
   Expected<bool> setupSolver();
+  Expected<bool> restartAt(double t, const double *y);
+  void saveCounters();
+  void updateName();
+  /// The projection restart and the stiffness check after an Adams step of
+  /// a linearly implicit model.
+  StepStatus afterAdamsStep(double t);
+  bool looksStiff();
+  /// The eigenvalues of df/dy at the current point (false: not computed).
+  bool spectrum(Eigen::VectorXcd &lambda);
+  Expected<bool> switchToBdf();
 
   struct Impl;
   std::unique_ptr<Impl> impl_;
   bool adams_;
+  bool autoChoice_;       // Adams that may move to BDF
+  bool switched_ = false; // it did
+  bool project_ = false;  // sga: onto the constraints after every step
+  std::string name_;
   SimStats saved_; // counters of earlier restarts
 };
 

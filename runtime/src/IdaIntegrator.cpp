@@ -69,6 +69,14 @@ int rootFn(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *user) {
   return rc == 0 ? 0 : -1;
 }
 
+/// IDAEwtFn: the error weights at the step's starting point.
+int ewtFn(N_Vector y, N_Vector ewt, void *user) {
+  auto *d = static_cast<Data *>(user);
+  d->weights->compute(d->t, N_VGetArrayPointer(y), d->yp,
+                      N_VGetArrayPointer(ewt));
+  return 0;
+}
+
 /// IDA's failure returns in the failure report's terms.
 StepStatus failure(int flag) {
   switch (flag) {
@@ -165,7 +173,12 @@ Expected<bool> IdaIntegrator::init(int set, double t0, const double *y,
   LDAE_SUNDIALS_CHECK(IDASetErrHandlerFn(I.mem, sundials::keepMessage, &shared_));
   LDAE_SUNDIALS_CHECK(IDAInit(I.mem, residualFn, t0, I.y, I.yp));
   LDAE_SUNDIALS_CHECK(IDASetUserData(I.mem, &shared_));
-  LDAE_SUNDIALS_CHECK(IDASVtolerances(I.mem, rtol, I.atol));
+  shared_.t = t0;
+  shared_.yp = N_VGetArrayPointer(I.yp);
+  if (shared_.weights)
+    LDAE_SUNDIALS_CHECK(IDAWFtolerances(I.mem, ewtFn));
+  else
+    LDAE_SUNDIALS_CHECK(IDASVtolerances(I.mem, rtol, I.atol));
   I.tstop = tstop;
   LDAE_SUNDIALS_CHECK(IDASetStopTime(I.mem, tstop));
   const ldae_model &m = ev_.model();
@@ -263,6 +276,7 @@ Expected<bool> IdaIntegrator::reinit(int set, double t, const double *y,
   std::copy(yp, yp + n, N_VGetArrayPointer(I.yp));
   int oldSet = shared_.set;
   shared_.set = set;
+  shared_.t = t;
   LDAE_SUNDIALS_CHECK(IDAReInit(I.mem, t, I.y, I.yp));
   LDAE_SUNDIALS_CHECK(IDASetStopTime(I.mem, I.tstop));
   auto ok = setupId();
@@ -291,6 +305,7 @@ StepStatus IdaIntegrator::step(double &tret) {
   Impl &I = *impl_;
   shared_.nonFinite = false;
   int flag = IDASolve(I.mem, I.tstop, &tret, I.y, I.yp, IDA_ONE_STEP);
+  shared_.t = tret;
   if (flag < 0) {
     return overflowAware(failure(flag));
   }

@@ -27,12 +27,25 @@ bool Integrator::finite(const double *v, int n) {
 Expected<std::unique_ptr<Integrator>> makeIntegrator(const ModelEval &ev,
                                                      IntegratorChoice choice) {
   const ldae_model &m = ev.model();
+  using Lmm = CvodeIntegrator::Lmm;
+  if (m.n_ode == m.n && m.n > 0 && m.n_state_sets == 1) {
+    // `--method sga|ode`: CVODE on the linearly implicit rows.
+    if (choice == IntegratorChoice::Ida)
+      return Error{"--method sga and --method ode integrate the SGA's "
+                   "vector field with CVODE; use --integrator auto, "
+                   "cvode-bdf or cvode-adams (or another --method for IDA)"};
+    Lmm lmm = choice == IntegratorChoice::CvodeBdf     ? Lmm::Bdf
+              : choice == IntegratorChoice::CvodeAdams ? Lmm::Adams
+                                                       : Lmm::Auto;
+    return std::unique_ptr<Integrator>(
+        std::make_unique<CvodeIntegrator>(ev, lmm));
+  }
   bool ode = m.explicit_ode != 0 && m.n_state_sets == 1;
   switch (choice) {
   case IntegratorChoice::Auto:
     if (ode)
       return std::unique_ptr<Integrator>(
-          std::make_unique<CvodeIntegrator>(ev, false));
+          std::make_unique<CvodeIntegrator>(ev, Lmm::Bdf));
     return std::unique_ptr<Integrator>(std::make_unique<IdaIntegrator>(ev));
   case IntegratorChoice::Ida:
     return std::unique_ptr<Integrator>(std::make_unique<IdaIntegrator>(ev));
@@ -44,7 +57,7 @@ Expected<std::unique_ptr<Integrator>> makeIntegrator(const ModelEval &ev,
           "(its causal form keeps algebraic unknowns or several state sets; "
           "`--analyze` shows the form); use --integrator ida or auto"};
     return std::unique_ptr<Integrator>(std::make_unique<CvodeIntegrator>(
-        ev, choice == IntegratorChoice::CvodeAdams));
+        ev, choice == IntegratorChoice::CvodeAdams ? Lmm::Adams : Lmm::Bdf));
   }
   return Error{"internal error: unknown integrator choice"};
 }

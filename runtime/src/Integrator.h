@@ -4,6 +4,7 @@
 // CvodeIntegrator implement it; makeIntegrator picks one.
 #pragma once
 
+#include "ErrorWeights.h"
 #include "ModelEval.h"
 #include "ldae/Simulation.h"
 #include "support/Expected.h"
@@ -53,6 +54,9 @@ public:
   /// "IDA", "CVODE (BDF)" or "CVODE (Adams)".
   virtual const char *name() const = 0;
 
+  /// Makes the local error test use `weights` (kept; null: rtol and atol
+  /// alone). Before init.
+  void weighErrors(ErrorWeights *weights) { shared_.weights = weights; }
   /// Creates the integrator at (t0, y, y') for state set `set`; `atol` per
   /// unknown; `errorTestAlgebraic`: whether algebraic unknowns are in the
   /// local error test (an ODE has none). Errors are internal (a SUNDIALS
@@ -117,6 +121,13 @@ public:
     std::vector<double> zeros, work;
     std::string message;
     bool nonFinite = false; // a trial point was refused as not finite
+    /// The error weights when computed variables raise them (null: the
+    /// solvers' own from rtol and atol), and the time of the point the
+    /// solvers ask them for (they pass only y; IDA's y' is `yp`).
+    ErrorWeights *weights = nullptr;
+    double t = 0;
+    const double *yp = nullptr;
+    std::vector<double> weightsYp; // CVODE: f(t, y) for the weights
   };
 
   /// Translates an ABI status into a SUNDIALS callback return, recording a

@@ -462,18 +462,22 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
       pivotConditions(ev, s.start, m.start_y, m.start_yp);
   set = chooseStateSet(cond, 0);
 
-  std::vector<double> atol(m.n);
-  for (int i = 0; i < m.n; ++i)
-    atol[i] = s.atol * (m.nominal ? m.nominal[i] : 1.0);
+  ErrorWeights weights(ev, s.rtol, s.atol);
+  const bool errorTestAlgebraic =
+      o.algebraicErrorTest.value_or(m.algebraic_error_test != 0);
   double tNext = s.start + (span > 0 ? std::min(s.interval, span) : 1e-6);
   auto made = makeIntegrator(ev, o.integrator);
   if (!made)
     return Error{made.error()};
   Integrator &ida = **made;
   // IDA and CVODE need stop > start; a zero-length run still initializes.
-  auto ok = ida.init(set, s.start, m.start_y, m.start_yp, s.rtol, atol,
-                     span > 0 ? s.stop : s.start + 1e-6,
-                     o.algebraicErrorTest.value_or(m.algebraic_error_test != 0));
+  // The variables computed outside the integrator are error-tested with
+  // the algebraic unknowns (docs/runtime.md, "The error test").
+  if (errorTestAlgebraic && weights.propagates())
+    ida.weighErrors(&weights);
+  auto ok = ida.init(set, s.start, m.start_y, m.start_yp, s.rtol,
+                     weights.atol(), span > 0 ? s.stop : s.start + 1e-6,
+                     errorTestAlgebraic);
   if (!ok) {
     // The options were fine; a SUNDIALS call failing from here on is a
     // numerical failure of this run (status 3), never a command-line error.
@@ -578,7 +582,10 @@ void printStats(const SimStats &st, std::ostream &out) {
       << fmt::format("nonlinear conv. failures    {}\n", st.convergenceFailures)
       << fmt::format("state set switches          {}\n", st.stateSwitches)
       << fmt::format("roots found                 {}\n", st.rootsFound)
-      << fmt::format("largest drift residual      {:.3g}\n", st.maxDrift)
+      << fmt::format("largest drift residual      {:.3g}\n", st.maxDrift);
+  if (st.projections > 0)
+    out << fmt::format("constraint projections      {}\n", st.projections);
+  out
       << fmt::format("initialization time         {:.6f} s\n", st.initTime)
       << fmt::format("wall time                   {:.6f} s\n", st.wallTime);
 }

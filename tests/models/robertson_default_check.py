@@ -10,9 +10,10 @@ Every printed value must lie within FACTOR x the example's own error bound
 the last printed digit (the .out has five significant digits).
 
 Usage: robertson_default_check.py LDAEC [OPTION...]. Options after LDAEC
-go to ldaec: the ctest gives --causalize off, as the example hands IDA all
-three unknowns (causalized, y3 = 1 - y1 - y2 is in no error test and is
-3.4-3.8 x the bound at t = 0.26 and 0.4; tests/models/CMakeLists.txt).
+go to ldaec: the ctests give --integrator ida (the causal form, y3 = 1 -
+y1 - y2 computed outside IDA and error-tested through the weights of y1
+and y2) and --causalize off (all three unknowns to IDA, as in the
+example); tests/models/CMakeLists.txt.
 Exits 77 (skipped) without the example's output. Standard library only.
 """
 import os
@@ -28,7 +29,7 @@ NAMES = ("y1", "y2", "y3")
 # bound (y1 at t = 4e5); another step sequence of the same method at the
 # same tolerances may be off the other way. 3 x passes such a run (ldaec
 # with every unknown error-tested: 1.2 x at worst) and fails y3 left out
-# of the error test (11 x at t = 0.4).
+# of the error test (`--algebraic-error-test off`: 3.8 x at t = 0.4).
 FACTOR = 3
 
 

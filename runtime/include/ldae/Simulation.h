@@ -78,6 +78,9 @@ struct SimStats {
   long stateSwitches = 0;
   long rootsFound = 0;
   double maxDrift = 0; ///< largest |model.drift| seen at output points
+  /// Projections onto the constraints (`--method sga|ode`: the start,
+  /// every step, output rows).
+  long projections = 0;
   double wallTime = 0; ///< seconds, initialization included
   double initTime = 0; ///< seconds spent finding the initial point
   bool sparse = false; ///< KLU (true) or dense LU (false)

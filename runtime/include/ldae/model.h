@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 4
+#define LDAE_ABI_VERSION 5
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -55,9 +55,11 @@ typedef int (*ldae_init_jacobian_fn)(double t, const double *y,
 /* Pivot matrix of a state set (m x m, column-major) at (t, y). */
 typedef int (*ldae_pivot_fn)(double t, const double *y, const double *yp,
                              const double *p, double *M);
-/* Geometric-method slots (filled by the SGA stage; NULL until then):
-   x' = f(t, x, p) on the final constraint manifold; c(t, x, p) = 0 its
-   constraints; Jc = dc/dx (n_constraints x n_ode, column-major). */
+/* Geometric-method slots (--method sga|ode): x' = f(t, x, p) on the final
+   constraint manifold; c(t, x, p) = 0 its constraints; Jc = dc/dx
+   (n_constraints x n_ode, column-major). The code generators leave ode_rhs
+   NULL: the runtime solves the linearly implicit rows for f (see
+   n_ode). */
 typedef int (*ldae_ode_rhs_fn)(double t, const double *x, const double *p,
                                double *xdot);
 typedef int (*ldae_constraints_fn)(double t, const double *x, const double *p,
@@ -114,7 +116,13 @@ typedef struct ldae_model {
   int n_drift;
   ldae_residual_fn drift;              /* writes n_drift values */
 
-  /* Geometric method (SGA) slots: NULL / 0 until that stage fills them. */
+  /* Geometric method (SGA) slots. n_ode = n when the only state set's
+     rows are linear in y' with every unknown differential and dF/dy'
+     nonsingular on the constraint manifold (--method sga|ode): CVODE then
+     integrates y' = f(t, y) solving dF/dy' f = -F(t, y, 0); 0 otherwise.
+     n_constraints, constraints, constraint_jacobian: every constraint
+     generation c(t, y) = 0 of that system (the start is projected onto
+     them; see project_constraints). */
   int n_ode;
   int n_constraints;
   ldae_ode_rhs_fn ode_rhs;
@@ -154,6 +162,26 @@ typedef struct ldae_model {
      (`--method raw`) whose index exceeds one, where their errors do not
      follow the differential ones' (docs/runtime.md, "The error test"). */
   int algebraic_error_test;
+
+  /* With n_ode = n: 1 when the solution is projected onto the constraints
+     after each step (--method sga), 0 when only the start is (--method
+     ode: the drift shows). */
+  int project_constraints;
+
+  /* The unknowns of the index-1 system that the causal form computes
+     outside the integrator (y3 = 1 - y1 - y2 of Robertson): the error test
+     still controls them through the states they are computed from
+     (docs/runtime.md, "The error test"). z = tested(t, y, y', p)
+     (n_tested values, nominal values tested_nominal) and dz/dy in the CSC
+     pattern tested_jac_* (n_tested rows, n columns), written by
+     tested_jacobian_csc called with cj = 0. n_tested may be 0. */
+  int n_tested;
+  const double *tested_nominal;        /* n_tested */
+  ldae_outputs_fn tested;
+  int tested_jac_nnz;
+  const int *tested_jac_colptr;        /* n + 1 */
+  const int *tested_jac_rowind;        /* tested_jac_nnz */
+  ldae_jacobian_csc_fn tested_jacobian_csc;
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians

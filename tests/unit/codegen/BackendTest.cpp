@@ -125,6 +125,8 @@ TEST_P(Backends, InterpreterEqualsReferenceEvaluator) {
     expect("outputs", outs);
     expect("roots", sys.roots);
     expect("drift", sys.constraints);
+    if (interp->model().constraints)
+      expect("constraints", sys.constraints);
     expect("init_residual", sys.initialResiduals);
   }
 }
@@ -262,6 +264,10 @@ const ModelCase kCases[] = {
     {"robertson_chunked", samples::robertson, 0.1, 1.0, 3, {1, 1e-4, 1}},
     {"pendulum", samples::pendulum, -1.0, 1.0, 2000},
     {"pendulum_chunked", samples::pendulum, -1.0, 1.0, 4},
+    {"pendulum_sga", [] { return samples::cartesianPendulumSga(1.0, true); },
+     -1.0, 1.0, 2000},
+    {"pendulum_sga_chunked",
+     [] { return samples::cartesianPendulumSga(1.0, true); }, -1.0, 1.0, 3},
     {"builtins", samples::builtins, 0.1, 0.9, 2000},
     {"builtins_chunked", samples::builtins, 0.1, 0.9, 5},
     {"chain40", [] { return samples::chain(40); }, -1.0, 1.0, 2000},

@@ -53,6 +53,12 @@ Evaluation evaluateAll(const ldae_model &m, const Point &pt) {
   add("outputs", m.n_outputs,
       [&](double *o) { return m.outputs(pt.t, y, yp, p, o); });
   add("drift", m.n_drift, [&](double *o) { return m.drift(pt.t, y, yp, p, o); });
+  if (m.constraints)
+    add("constraints", m.n_constraints,
+        [&](double *o) { return m.constraints(pt.t, y, p, o); });
+  if (m.constraint_jacobian)
+    add("constraint_jacobian", size_t(m.n_constraints) * m.n,
+        [&](double *o) { return m.constraint_jacobian(pt.t, y, p, o); });
   return ev;
 }
 
@@ -93,6 +99,8 @@ std::string compareMetadata(const ldae_model &a, const ldae_model &b) {
             a.n_state_sets == b.n_state_sets && a.n_init == b.n_init &&
             a.n_roots == b.n_roots && a.n_outputs == b.n_outputs &&
             a.n_drift == b.n_drift && a.init_jac_nnz == b.init_jac_nnz &&
+            a.n_ode == b.n_ode && a.n_constraints == b.n_constraints &&
+            a.project_constraints == b.project_constraints &&
             !a.init_jacobian == !b.init_jacobian,
         "sizes");
   if (!os.str().empty())

@@ -1,0 +1,67 @@
+// f and df/dy of a linearly implicit model (see ImplicitOde.h).
+#include "ImplicitOde.h"
+
+#include <algorithm>
+
+namespace ldae::runtime {
+
+namespace {
+
+/// E = dF/dy' comes from the iteration matrix dF/dy + cj dF/dy' at two
+/// values of cj: (J(c) - J(0)) / c. An entry with both parts is rounded to
+/// eps |dy + c dyp|, so E's entry carries eps (1 + |dy| / (c |dyp|)); a large
+/// power of two keeps that near eps whatever |dF/dy| is (with c = 1 a
+/// stiff row's dF/dy of 1e8 against dF/dy' of 1 would leave E 1e-8
+/// accurate), and dividing by it is exact.
+constexpr double kEScale = 1048576.0; // 2^20
+
+/// Below this reciprocal condition number dF/dy' counts as singular.
+constexpr double kMinRcond = 1e-13;
+
+} // namespace
+
+ImplicitOde::ImplicitOde(const ModelEval &ev)
+    : ev_(ev), n_(ev.n()), zeros_(ev.n(), 0.0), r_(ev.n()), yAt_(ev.n()) {}
+
+int ImplicitOde::factor(double t, const double *y) {
+  if (factored_ && t == tAt_ && std::equal(y, y + n_, yAt_.begin()))
+    return 0;
+  factored_ = false;
+  const double *yp = zeros_.data();
+  if (int rc = ev_.jacobian(0, t, y, yp, 0.0, J0_))
+    return rc;
+  if (int rc = ev_.jacobian(0, t, y, yp, kEScale, Jc_))
+    return rc;
+  Jc_ -= J0_;
+  Jc_ /= kEScale;
+  lu_.compute(Jc_);
+  if (!(lu_.rcond() >= kMinRcond))
+    return kSingular;
+  tAt_ = t;
+  std::copy(y, y + n_, yAt_.begin());
+  factored_ = true;
+  return 0;
+}
+
+int ImplicitOde::rhs(double t, const double *y, double *f) {
+  if (int rc = ev_.residual(0, t, y, zeros_.data(), r_.data()))
+    return rc;
+  if (int rc = factor(t, y))
+    return rc;
+  Eigen::Map<Eigen::VectorXd>(f, n_) =
+      -lu_.solve(Eigen::Map<const Eigen::VectorXd>(r_.data(), n_));
+  return 0;
+}
+
+int ImplicitOde::jacobian(double t, const double *y, const double *f,
+                          double *J) {
+  if (int rc = factor(t, y))
+    return rc;
+  // dF/dy at y' = f (J0_ is free again: factor() is done with it).
+  if (int rc = ev_.jacobian(0, t, y, f, 0.0, J0_))
+    return rc;
+  Eigen::Map<Eigen::MatrixXd>(J, n_, n_) = -lu_.solve(J0_);
+  return 0;
+}
+
+} // namespace ldae::runtime
