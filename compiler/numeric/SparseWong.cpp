@@ -98,11 +98,22 @@ struct Reducer {
   };
   std::vector<Pair> pairs;
   std::vector<char> eRowPivot;
-  bool excessColumn = false; // a differentiated column without E pivot
+  std::vector<int> pivotColumn;  // by row: its E pivot's column
+  std::vector<int> excess;       // differentiated columns without E pivot
+  bool excessColumn = false;     // some could not be cleared
+  /// Column operations x_p = x'_p - g_p x'_j clearing E's excess column
+  /// j (E11 g = E12_j); made after the first `transformAt` pairs.
+  struct Transform {
+    int col;
+    std::vector<std::pair<int, double>> g;
+  };
+  std::vector<Transform> transforms;
+  size_t transformAt = 0;
 
   explicit Reducer(const SparsePencil &p, double tol)
       : nr(p.rows), nc(p.cols), tol(tol), E(nr), F(nr), eCol(nc), fCol(nc),
-        rowAlive(nr, 1), colAlive(nc, 1), eRowPivot(nr, 0) {
+        rowAlive(nr, 1), colAlive(nc, 1), eRowPivot(nr, 0),
+        pivotColumn(nr, -1) {
     for (const SparsePencil::Entry &e : p.E)
       E[e.row][e.col] += e.value;
     for (const SparsePencil::Entry &e : p.F)
@@ -241,10 +252,11 @@ struct Reducer {
             (best < 0 || std::fabs(E[k].at(j)) > std::fabs(E[best].at(j))))
           best = k;
       if (best < 0) {
-        excessColumn = true; // only pivot rows read it: cancellation
+        excess.push_back(j); // only pivot rows read it
         continue;
       }
       eRowPivot[best] = 1;
+      pivotColumn[best] = j;
       for (int k : sorted(eCol[j])) {
         if (eRowPivot[k])
           continue;
@@ -257,28 +269,107 @@ struct Reducer {
     }
   }
 
-  /// Extends a vector over the alive columns to all columns through the
-  /// index-1 pairs, last eliminated first.
-  VectorXd expand(const VectorXd &alive, const std::vector<int> &aliveCols) const {
-    VectorXd x = VectorXd::Zero(nc);
-    for (size_t k = 0; k < aliveCols.size(); ++k)
-      x(aliveCols[k]) = alive(k);
-    for (auto it = pairs.rbegin(); it != pairs.rend(); ++it) {
+  /// Step 2b: a differentiated column that only pivot rows read (a
+  /// capacitor between two nodes: C (e_a - e_b)' has one row, two
+  /// columns) is cleared from E by a column operation with the pivot
+  /// columns, x_p = x'_p - g_p x'_j with E11 g = E12_j; x'_j is then free of
+  /// E (step 1 may pair it). False when E11 cannot be factored.
+  bool clearExcessColumns() {
+    transformAt = pairs.size();
+    if (excess.empty())
+      return true;
+    std::vector<int> prow, pcolIndex(nc, -1), pcol;
+    for (int r = 0; r < nr; ++r)
+      if (rowAlive[r] && eRowPivot[r]) {
+        pcolIndex[pivotColumn[r]] = int(prow.size());
+        prow.push_back(r);
+        pcol.push_back(pivotColumn[r]);
+      }
+    CscMatrix e11 = toCscRows(E, prow, pcolIndex, int(prow.size()));
+    SparseLu lu;
+    if (!prow.empty() && !lu.factor(e11))
+      return false;
+    for (int j : excess) {
+      VectorXd g = VectorXd::Zero(prow.size());
+      for (size_t k = 0; k < prow.size(); ++k) {
+        auto it = E[prow[k]].find(j);
+        if (it != E[prow[k]].end())
+          g(k) = it->second;
+      }
+      lu.solve(g.data());
+      Transform t{j, {}};
+      std::unordered_map<int, std::pair<double, double>> delta; // sum, bound
+      for (size_t k = 0; k < prow.size(); ++k) {
+        if (g(k) == 0)
+          continue;
+        t.g.push_back({pcol[k], g(k)});
+        for (int r : fCol[pcol[k]]) {
+          double v = g(k) * F[r].at(pcol[k]);
+          delta[r].first -= v;
+          delta[r].second += std::fabs(v);
+        }
+      }
+      for (const auto &[r, d] : delta) {
+        auto it = F[r].find(j);
+        double old = it == F[r].end() ? 0 : it->second;
+        double sum = old + d.first;
+        if (std::fabs(sum) <= tol * std::max(std::fabs(old), d.second)) {
+          if (it != F[r].end()) {
+            F[r].erase(it);
+            fCol[j].erase(r);
+          }
+        } else {
+          F[r][j] = sum;
+          fCol[j].insert(r);
+        }
+      }
+      for (int r : sorted(eCol[j]))
+        E[r].erase(j); // exactly: E11 g = E12_j
+      eCol[j].clear();
+      transforms.push_back(std::move(t));
+    }
+    excess.clear();
+    return true;
+  }
+
+  static CscMatrix toCscRows(const std::vector<SparseRow> &m,
+                             const std::vector<int> &rows,
+                             const std::vector<int> &colIndex, int n);
+
+  /// Back-substitutes the pairs in [from, to), last eliminated first.
+  void backSubstitute(VectorXd &x, size_t from, size_t to) const {
+    for (size_t p = to; p-- > from;) {
+      const Pair &pair = pairs[p];
       double pivot = 0, sum = 0;
-      for (const auto &[c, v] : it->f) {
-        if (c == it->col)
+      for (const auto &[c, v] : pair.f) {
+        if (c == pair.col)
           pivot = v;
         else
           sum += v * x(c);
       }
-      x(it->col) = -sum / pivot;
+      x(pair.col) = -sum / pivot;
     }
+  }
+
+  /// Extends a vector over the alive columns to all columns: the pairs
+  /// split off after the column operations, the column operations, the
+  /// pairs before them.
+  VectorXd expand(const VectorXd &alive, const std::vector<int> &aliveCols) const {
+    VectorXd x = VectorXd::Zero(nc);
+    for (size_t k = 0; k < aliveCols.size(); ++k)
+      x(aliveCols[k]) = alive(k);
+    backSubstitute(x, transformAt, pairs.size());
+    for (const Transform &t : transforms)
+      for (const auto &[c, g] : t.g)
+        x(c) -= g * x(t.col);
+    backSubstitute(x, 0, transformAt);
     return x;
   }
 };
 
-CscMatrix toCsc(const std::vector<SparseRow> &m, const std::vector<int> &rows,
-                const std::vector<int> &colIndex, int n) {
+CscMatrix Reducer::toCscRows(const std::vector<SparseRow> &m,
+                             const std::vector<int> &rows,
+                             const std::vector<int> &colIndex, int n) {
   std::vector<std::vector<std::pair<int, double>>> byCol(n);
   for (size_t r = 0; r < rows.size(); ++r)
     for (const auto &[c, v] : m[rows[r]])
@@ -479,6 +570,7 @@ PencilAnalysis analyzePencil(const SparsePencil &p, const PencilOptions &opts) {
   Reducer red(p, opts.tol);
   red.splitIndexOnePairs();
   red.compressE();
+  red.excessColumn = !red.clearExcessColumns();
   red.splitIndexOnePairs();
 
   std::vector<int> rows1, rowsC, colsD, colsA;
@@ -505,8 +597,8 @@ PencilAnalysis analyzePencil(const SparsePencil &p, const PencilOptions &opts) {
       dIndex[colsD[k]] = int(k);
     for (size_t k = 0; k < colsA.size(); ++k)
       aIndex[colsA[k]] = int(k);
-    h.e11 = toCsc(red.E, rows1, dIndex, h.r);
-    h.f11 = toCsc(red.F, rows1, dIndex, h.r);
+    h.e11 = Reducer::toCscRows(red.E, rows1, dIndex, h.r);
+    h.f11 = Reducer::toCscRows(red.F, rows1, dIndex, h.r);
     h.f11t = h.f11.transposed();
     h.f12 = denseBlock(red.F, rows1, aIndex, h.m);
     h.c = normalizedRows(denseBlock(red.F, rowsC, dIndex, h.r));

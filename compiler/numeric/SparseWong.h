@@ -9,7 +9,9 @@
 //     (0, f): it adds one dimension to T, none to V, and W-step 1 (the
 //     algebraic unknowns of a circuit: resistor currents and the like);
 //  2. row compression of E (row operations only): rows whose E-part is a
-//     combination of others become constraints (a capacitor loop);
+//     combination of others become constraints (a capacitor loop); a
+//     column of E that only the pivot rows read (C (e_a - e_b)' in nodal
+//     form) is cleared by a column operation with the pivot columns;
 //  then 1 again on the new constraints. What is left is
 //     [s E11 - F11, -F12; -F21, 0] with E11 square and nonsingular,
 //  i.e. x' = A x + B z, 0 = C x with A = E11^-1 F11, B = E11^-1 F12,
@@ -19,9 +21,8 @@
 //     T: Y_i = A(Y_{i-1} ∩ ker C) + im B, T_{i+1} = Y_i x R^m, carried by
 //        a basis (few columns),
 //  with A applied through one sparse LU of E11 (KLU). When the reduced
-//  pencil is not of that form (E11 singular or a differentiated unknown
-//  left over: cancellation such as der(x) + der(y)), the dense Wong
-//  sequences run on the reduced pencil, which is small in such models.
+//  pencil is not of that form (E11 not square or numerically singular),
+//  the dense Wong sequences run on the reduced pencil.
 #pragma once
 
 #include <Eigen/Dense>
