@@ -8,10 +8,13 @@ beside it.
 
 Usage: /usr/bin/python3 bench/work_precision.py [--ldaec build/compiler/driver/ldaec]
            [--doc | --out DIR] [--models pendulum,robertson]
-           [--methods dd,dd+ida,dd+alg-off,raw]
+           [--methods dd,dd+ida,dd+alg-off,raw,sga,sga+cvode-bdf,ode]
 A method is `--method M` optionally followed by variants: `+ida`, `+cvode`,
-`+cvode-adams` (--integrator), `+alg-off` (--algebraic-error-test off),
-`+uncausal` (--causalize off). Without --doc or --out the table and chart
+`+cvode-bdf`, `+cvode-adams` (--integrator), `+alg-off`
+(--algebraic-error-test off), `+uncausal` (--causalize off). `sga` is the
+SGA's vector field on P_f with CVODE projected onto the constraints (Adams
+by default, moving to BDF when stiff; `+cvode-bdf` forces BDF with
+CVodeSetProjFn), `ode` the same without projection (its drift). Without --doc or --out the table and chart
 go to a temporary directory (tracked files are rewritten only when asked).
 A run that fails (non-zero exit status) is listed in the table with its
 status and left out of the chart.
@@ -84,6 +87,7 @@ def error(result, reference, floors):
 
 
 VARIANTS = {"ida": ["--integrator", "ida"], "cvode": ["--integrator", "cvode"],
+            "cvode-bdf": ["--integrator", "cvode-bdf"],
             "cvode-adams": ["--integrator", "cvode-adams"],
             "alg-off": ["--algebraic-error-test", "off"],
             "uncausal": ["--causalize", "off"]}
@@ -124,7 +128,8 @@ def main():
     ap.add_argument("--doc", action="store_true",
                     help="write the tables and charts into docs/")
     ap.add_argument("--models", default="pendulum,robertson")
-    ap.add_argument("--methods", default="dd,dd+ida,dd+alg-off,raw")
+    ap.add_argument("--methods",
+                    default="dd,dd+ida,dd+alg-off,raw,sga,sga+cvode-bdf,ode")
     args = ap.parse_args()
     if args.out is None:
         args.out = (os.path.join(ROOT, "docs") if args.doc
@@ -153,7 +158,7 @@ def main():
                     table.append({"model": name, "method": method, "rtol": rtol,
                                   "status": status, "wall_s": wall, "steps": steps,
                                   "error": err})
-                    print(f"{name:10s} {method:4s} rtol={rtol:.0e} status={status} "
+                    print(f"{name:10s} {method:13s} rtol={rtol:.0e} status={status} "
                           f"time={wall:.3f}s error={err}", flush=True)
                     if status not in (0, 3, "timeout"):
                         print(err_text.strip()[:300], file=sys.stderr)
