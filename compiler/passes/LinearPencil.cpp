@@ -292,6 +292,16 @@ std::string findConflict(PassContext &ctx, const LinearModel &lm,
   return "";
 }
 
+/// `items` quoted, at most kMaxNamed of them, then "(and N more)": a
+/// large singular model may leave hundreds of directions free.
+constexpr size_t kMaxNamed = 8;
+std::string quotedFew(const std::vector<std::string> &items) {
+  if (items.size() <= kMaxNamed)
+    return quotedList(items);
+  return quotedList({items.begin(), items.begin() + kMaxNamed}) + " (and " +
+         std::to_string(items.size() - kMaxNamed) + " more)";
+}
+
 class LinearPencilPass
     : public TypedPass<LinearPencilPass, Reads<>, Updates<>, Produces<>> {
 public:
@@ -329,7 +339,7 @@ private:
                        const LinearModel &lm, const std::vector<int> &rows) {
     std::string why;
     if (!rep.freeDirections.empty())
-      why = "nothing determines " + quotedList(rep.freeDirections);
+      why = "nothing determines " + quotedFew(rep.freeDirections);
     if (!rep.conflict.empty())
       why += (why.empty() ? "" : "; ") + rep.conflict;
     if (why.empty())

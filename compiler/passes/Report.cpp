@@ -143,7 +143,15 @@ void printLinear(const LinearReport &l, std::ostream &out) {
                     : std::string("singular: not well-posed"))
       << ", dim V = " << l.dimV << ", dim W = " << l.dimW << "\n";
   if (!l.freeDirections.empty())
-    out << "    free directions:    " << joined(l.freeDirections) << "\n";
+    for (size_t i = 0; i < l.freeDirections.size(); i += 8) {
+      // Eight to a line: a large singular model may leave hundreds free.
+      std::vector<std::string> line(
+          l.freeDirections.begin() + i,
+          l.freeDirections.begin() +
+              std::min(i + 8, l.freeDirections.size()));
+      out << (i ? "                        " : "    free directions:    ")
+          << joined(line) << "\n";
+    }
   if (!l.conflict.empty())
     out << "    conflict:           " << l.conflict << "\n";
 }
