@@ -238,13 +238,75 @@ private:
     return best;
   }
 
+  /// Gauss–Newton onto R_{q+s} at time t from x. Its minimum-norm steps
+  /// favour the coordinates with the largest coefficients, and a
+  /// capacitor's 1e-6 in front of a derivative lets them move voltages
+  /// into exp() rather than the derivative: when the plain iteration
+  /// fails, the derivatives (every coordinate of order >= 1) are fitted
+  /// first with the order-0 values held, and all coordinates move only
+  /// from there.
+  bool solve(double t, Eigen::VectorXd &x) {
+    numeric::ResidualFn f = [&](const Eigen::VectorXd &y, Eigen::VectorXd &r) {
+      return sys_.residual(t, y, r);
+    };
+    numeric::JacobianFn jac = [&](const Eigen::VectorXd &y,
+                                  Eigen::MatrixXd &j) {
+      return sys_.jacobian(t, y, j);
+    };
+    numeric::NewtonOptions opts;
+    opts.tolerance = 1e-11;
+    Eigen::VectorXd plain = x;
+    if (numeric::gaussNewton(f, jac, plain, opts).converged() &&
+        regular(plain)) {
+      x = std::move(plain);
+      return true;
+    }
+    const Eigen::Index m = sys_.unknowns();
+    Eigen::VectorXd held = x.head(m);
+    auto full = [&](const Eigen::VectorXd &tail) {
+      Eigen::VectorXd y(x.size());
+      y << held, tail;
+      return y;
+    };
+    numeric::ResidualFn fTail = [&](const Eigen::VectorXd &tail,
+                                    Eigen::VectorXd &r) {
+      return sys_.residual(t, full(tail), r);
+    };
+    numeric::JacobianFn jTail = [&](const Eigen::VectorXd &tail,
+                                    Eigen::MatrixXd &j) {
+      Eigen::MatrixXd all;
+      if (!sys_.jacobian(t, full(tail), all))
+        return false;
+      j = all.rightCols(all.cols() - m);
+      return true;
+    };
+    opts.maxIterations = 10;
+    Eigen::VectorXd tail = x.tail(x.size() - m);
+    if (numeric::gaussNewton(fTail, jTail, tail, opts).status !=
+        numeric::NewtonStatus::EvaluationFailed)
+      x = full(tail);
+    opts.maxIterations = 50;
+    return numeric::gaussNewton(f, jac, x, opts).converged() && regular(x);
+  }
+
+  /// Homogeneous equations (Vessiot's y3^2 = y1*y2 with linear ODEs) have
+  /// a cone of solutions whose vertex, all coordinates 0, is where the
+  /// minimum-norm steps lead from a start whose high derivatives are too
+  /// large: a singular point, where the residual test (absolute below 1)
+  /// says nothing about the ranks. Such a point is drawn again.
+  static bool regular(const Eigen::VectorXd &x) {
+    return x.size() == 0 || x.cwiseAbs().maxCoeff() > 1e-3;
+  }
+
   /// Brings `p` onto R_{q+s}: from where it was (its new coordinates
-  /// drawn at random), then from fresh random starts.
+  /// drawn at random), then from fresh random starts ever closer to the
+  /// start values (a spread of half the scale overflows exp(v / 0.026)).
   bool place(Point &p) {
-    std::normal_distribution<double> noise(0.0, 0.5);
+    std::normal_distribution<double> noise(0.0, 1.0);
     std::uniform_real_distribution<double> time(0.1, 0.9);
     const int n = sys_.columns();
-    for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    double spread = 0.5;
+    for (int attempt = 0; attempt < kAttempts; ++attempt, spread *= 0.25) {
       Eigen::Index kept = attempt == 0 ? std::min<Eigen::Index>(p.x.size(), n)
                                        : 0;
       if (kept == 0)
@@ -252,19 +314,8 @@ private:
       Eigen::VectorXd x(n);
       x.head(kept) = p.x.head(kept);
       for (int c = static_cast<int>(kept); c < n; ++c)
-        x[c] = sys_.startValue(c, noise(rng_));
-      const double t = p.t;
-      numeric::ResidualFn f = [&](const Eigen::VectorXd &y,
-                                  Eigen::VectorXd &r) {
-        return sys_.residual(t, y, r);
-      };
-      numeric::JacobianFn jac = [&](const Eigen::VectorXd &y,
-                                    Eigen::MatrixXd &j) {
-        return sys_.jacobian(t, y, j);
-      };
-      numeric::NewtonOptions opts;
-      opts.tolerance = 1e-11;
-      if (numeric::gaussNewton(f, jac, x, opts).converged()) {
+        x[c] = sys_.startValue(c, spread * noise(rng_));
+      if (solve(p.t, x)) {
         p.x = std::move(x);
         return true;
       }
