@@ -496,25 +496,28 @@ StepStatus CvodeIntegrator::afterAdamsStep(double t) {
   Impl &I = *impl_;
   if (project_) {
     // CVODE projects BDF steps only: Adams restarts from the projected
-    // point once the drift's correction exceeds the error tolerance.
+    // point once the drift's correction (one Gauss-Newton step: its size
+    // is all that matters here) exceeds kAdamsDriftRestart tolerances.
     int n = ev_.n();
-    std::vector<double> yq(N_VGetArrayPointer(I.y), N_VGetArrayPointer(I.y) + n),
-        dy(n);
-    int rc = I.projection->project(t, yq.data(), false, dy.data());
-    if (rc != 0)
+    std::vector<double> dy(n);
+    const double *y = N_VGetArrayPointer(I.y);
+    if (I.projection->correction(t, y, dy.data()) != 0 ||
+        CVodeGetErrWeights(I.mem, I.tmp) < 0)
       return StepStatus::failed(FailureKind::Convergence,
                                 "projection onto the constraints");
-    if (CVodeGetErrWeights(I.mem, I.tmp) >= 0) {
-      const double *w = N_VGetArrayPointer(I.tmp);
-      double sum = 0;
-      for (int i = 0; i < n; ++i)
-        sum += (dy[i] * w[i]) * (dy[i] * w[i]);
+    const double *w = N_VGetArrayPointer(I.tmp);
+    double sum = 0;
+    for (int i = 0; i < n; ++i)
+      sum += (dy[i] * w[i]) * (dy[i] * w[i]);
+    if (std::sqrt(sum / n) > kAdamsDriftRestart) {
       // Restarted at the next step: output times within this one are
       // still interpolated from its polynomial.
-      if (std::sqrt(sum / n) > kAdamsDriftRestart) {
-        I.pendingRestart = std::move(yq);
-        I.pendingT = t;
-      }
+      std::vector<double> yq(y, y + n);
+      if (I.projection->project(t, yq.data(), false) != 0)
+        return StepStatus::failed(FailureKind::Convergence,
+                                  "projection onto the constraints");
+      I.pendingRestart = std::move(yq);
+      I.pendingT = t;
     }
   }
   if (autoChoice_ && ++I.stepsSinceCheck >= kStiffnessCheckEvery) {
