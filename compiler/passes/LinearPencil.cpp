@@ -12,9 +12,11 @@
 // equations into others and can lower the index of the pencil (two
 // capacitors in parallel: index 2 as written, 1 once v1 = v2 is
 // substituted). Structure cannot see numerical cancellation (`der(x) +
-// der(y)` in two equations), so a singular pencil gets its own diagnostic
-// here, whatever structure says later: a warning for a report
-// (`--analyze`), an error when the model is to be run.
+// der(y)` in two equations), so a singular pencil that is structurally
+// regular is diagnosed here: a warning for a report (`--analyze`), an
+// error when the model is to be run. A structurally singular one is
+// diagnosed by the passes that name its structure (sga, dm); this
+// verdict (free directions, conflict) goes to its report.
 //
 // Higher derivatives are made first order (x, der(x), ... each a column,
 // with rows der(x_k) = x_{k+1}). Linearity is decided per incidence: the
@@ -26,6 +28,7 @@
 #include "passes/Passes.h"
 #include "passes/Results.h"
 
+#include "graph/Matching.h"
 #include "ir/Differentiate.h"
 #include "ir/Evaluate.h"
 #include "ir/Query.h"
@@ -174,6 +177,22 @@ std::optional<LinearModel> extractPencil(PassContext &ctx) {
   lm.pencil.rows = int(lm.rowEquation.size());
   lm.pencil.cols = int(lm.columns.size());
   return lm;
+}
+
+/// Whether the pencil's incidence (entries of E or F) has a complete
+/// matching: square and structurally nonsingular.
+bool structurallyRegular(const numeric::SparsePencil &p) {
+  if (p.rows != p.cols)
+    return false;
+  graph::BipartiteGraph g(p.rows, p.cols);
+  std::vector<std::vector<char>> seen(p.rows);
+  for (const auto *list : {&p.E, &p.F})
+    for (const numeric::SparsePencil::Entry &e : *list)
+      if (e.value != 0 &&
+          std::find(g.rows[e.row].begin(), g.rows[e.row].end(), e.col) ==
+              g.rows[e.row].end())
+        g.addEdge(e.row, e.col);
+  return graph::maximumMatching(g).size == p.rows;
 }
 
 /// `c` as a coefficient in front of a name: "", "-", "2.5*".
@@ -330,13 +349,19 @@ public:
     // unknowns, consistent (the SGA names the redundant ones).
     if (rep.freeDirections.empty() && rep.conflict.empty())
       return true;
-    diagnose(ctx, rep, *lm, conflictRows);
+    // A structurally singular model is diagnosed and refused by the passes
+    // that name its structure (sga, dm): this verdict goes to the report
+    // only. What structure cannot see (cancellation) is diagnosed here.
+    if (!structurallyRegular(lm->pencil))
+      return true;
+    diagnose(ctx, rep, *lm, conflictRows, !ctx.opts.reportOnly);
     return ctx.opts.reportOnly;
   }
 
 private:
   static void diagnose(PassContext &ctx, const LinearReport &rep,
-                       const LinearModel &lm, const std::vector<int> &rows) {
+                       const LinearModel &lm, const std::vector<int> &rows,
+                       bool error) {
     std::string why;
     if (!rep.freeDirections.empty())
       why = "nothing determines " + quotedFew(rep.freeDirections);
@@ -351,9 +376,8 @@ private:
           involved.push_back(e);
     SourceLoc at = involved.empty() ? ctx.model.loc
                                     : ctx.model.equations[involved[0]].loc;
-    Diagnostic &d = ctx.diags.report(ctx.opts.reportOnly
-                                         ? DiagId::WarnLinearSingularPencil
-                                         : DiagId::ErrLinearSingularPencil,
+    Diagnostic &d = ctx.diags.report(error ? DiagId::ErrLinearSingularPencil
+                                           : DiagId::WarnLinearSingularPencil,
                                      at, {why});
     for (size_t i = 0; i < involved.size() && i < 8; ++i)
       DiagnosticEngine::addNote(d, ctx.model.equations[involved[i]].loc,
