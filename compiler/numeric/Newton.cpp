@@ -52,6 +52,16 @@ NewtonResult gaussNewton(const ResidualFn &f, const JacobianFn &jacobian,
       res.status = NewtonStatus::EvaluationFailed;
       return res;
     }
+    if (opts.backtrack) {
+      const double before = r.norm();
+      Eigen::VectorXd trial, rt;
+      for (int half = 0; half < 30; ++half) {
+        trial = x + dx;
+        if (f(trial, rt) && rt.allFinite() && rt.norm() < before)
+          break;
+        dx *= 0.5;
+      }
+    }
     x += dx;
   }
   res.iterations = opts.maxIterations;

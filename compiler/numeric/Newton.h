@@ -39,6 +39,10 @@ struct NewtonOptions {
   /// Rank threshold of the least-squares solve (relative to the largest
   /// pivot of the decomposition); 0: Eigen's default.
   double rankThreshold = 0;
+  /// Halve a step (up to 30 times) until the residual's 2-norm decreases:
+  /// for starts far from the solution set (the SGA's random points on
+  /// trigonometric constraints), where full steps diverge.
+  bool backtrack = false;
 };
 
 enum class NewtonStatus {

@@ -45,7 +45,10 @@ void ResultStore::missing(const std::type_info &type) {
 
 void Pass::print(PassContext &ctx, ResultStore &results,
                  std::ostream &out) const {
-  if (results.has<ir::DaeSystem>())
+  // The sga pass makes an empty system unless it builds one (an
+  // over-determined model): the model is what there is to print then.
+  if (results.has<ir::DaeSystem>() &&
+      !results.get<ir::DaeSystem>().stateSets.empty())
     out << printReduced(results.get<ir::DaeSystem>());
   else
     out << ctx.model.print();

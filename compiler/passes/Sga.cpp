@@ -41,7 +41,7 @@ namespace ldae::passes {
 namespace {
 
 constexpr int kPoints = 3;          // sample points per step
-constexpr int kDrawAttempts = 20;   // random draws per point
+constexpr int kDrawAttempts = 5;    // random draws per point
 constexpr double kRankTol = 1e-9;   // singular values below count as 0
 constexpr double kZeroTol = 1e-8;   // |a_ic| / max|A| below: vanishes
 constexpr double kHoldTol = 1e-8;   // |phi| / its scale below: holds
@@ -104,6 +104,25 @@ double valueAt(ir::ExprRef e, const ir::EvalEnv &env, bool &ok) {
   return *v;
 }
 
+/// Scales the columns of A to largest entry 1, then its rows (and r with
+/// them) likewise, so that "vanishes" and ranks do not depend on units: a
+/// picofarad capacitor beside a henry inductor is not a zero. Row
+/// operations on the scaled rows are those on the rows, up to row scale.
+void equilibrate(Eigen::MatrixXd &A, Eigen::VectorXd &r) {
+  for (Eigen::Index c = 0; c < A.cols(); ++c) {
+    double m = A.col(c).cwiseAbs().maxCoeff();
+    if (m > 0 && std::isfinite(m))
+      A.col(c) /= m;
+  }
+  for (Eigen::Index i = 0; i < A.rows(); ++i) {
+    double m = A.cols() > 0 ? A.row(i).cwiseAbs().maxCoeff() : 0.0;
+    if (m > 0 && std::isfinite(m)) {
+      A.row(i) /= m;
+      r[i] /= m;
+    }
+  }
+}
+
 std::vector<int> merged(const std::vector<int> &a, const std::vector<int> &b) {
   std::vector<int> out;
   std::set_union(a.begin(), a.end(), b.begin(), b.end(),
@@ -140,6 +159,9 @@ private:
   /// Per constraint: the slots it reads and its partial derivatives.
   std::vector<std::vector<std::pair<int, ir::ExprRef>>> gradients_;
   std::set<int> gaveConstraint_; // rows whose remainder became a constraint
+  /// A projection ended at a least-squares minimum off the constraints.
+  bool stationaryFailure_ = false;
+  bool undecided_ = false; // no point of the constraints could be found
   /// Remainders that held on the manifold when found: constraints the
   /// others imply (used to name a written-out hidden constraint redundant).
   std::vector<SgaConstraintExpr> implied_;
@@ -230,12 +252,26 @@ bool Sga::project(Point &p, size_t count) {
     return ok;
   };
   numeric::NewtonOptions opts;
-  opts.tolerance = 1e-13;
-  opts.maxIterations = 60;
+  // Round-off in constraints with large terms (a mechanism's forces) keeps
+  // residuals well above 1e-13 of the coordinates.
+  opts.tolerance = 1e-10;
+  opts.maxIterations = 40;
+  opts.backtrack = true;
   Eigen::VectorXd x = p.x;
   numeric::NewtonResult nr = numeric::gaussNewton(res, jac, x, opts);
   p.x = x;
-  return nr.converged();
+  if (nr.converged())
+    return true;
+  // Stuck at a least-squares minimum with a residual left (J^T r = 0):
+  // the constraints conflict there. Otherwise the iteration just failed.
+  Eigen::VectorXd r;
+  Eigen::MatrixXd J;
+  if (res(x, r) && jac(x, J) && r.allFinite() && J.allFinite()) {
+    double g = (J.transpose() * r).norm();
+    if (g <= 1e-8 * std::max(J.norm(), 1e-300) * r.norm())
+      stationaryFailure_ = true;
+  }
+  return false;
 }
 
 bool Sga::samplePoints(std::vector<Point> &pts, int *failed) {
@@ -248,12 +284,16 @@ bool Sga::samplePoints(std::vector<Point> &pts, int *failed) {
       Point p;
       p.t = 0.3 + 0.25 * s + 0.1 * u(rng_);
       p.x.resize(static_cast<Eigen::Index>(ns));
+      // Generic points near the start values; closer ones after failures
+      // (a mechanism's constraints from far away may not be reachable).
+      const double spread = 0.8 * std::pow(0.2, attempt);
       for (size_t i = 0; i < ns; ++i) {
         ir::VarKey k = out_.form.slots[i];
         const ir::Variable &var = m_.variables[k.var];
         double base = k.order == 0 ? var.start : 0.0;
         double scale = std::max(std::abs(var.nominal), 1e-300);
-        p.x[static_cast<Eigen::Index>(i)] = base + scale * (0.5 * u(rng_) + (u(rng_) > 0 ? 0.3 : -0.3));
+        p.x[static_cast<Eigen::Index>(i)] =
+            base + scale * spread * (0.6 * u(rng_) + (u(rng_) > 0 ? 0.4 : -0.4));
       }
       if (!project(p, out_.constraints.size()))
         continue;
@@ -455,7 +495,10 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
   std::vector<double> normA(A.size(), 1.0);
   std::vector<std::vector<double>> scale(A.size(), std::vector<double>(nr));
   for (size_t s = 0; s < A.size(); ++s) {
-    normA[s] = std::max(A[s].cwiseAbs().maxCoeff(), 1e-300);
+    for (int i = 0; i < nr; ++i)
+      scale[s][i] = std::abs(r[s][i]);
+    equilibrate(A[s], r[s]);
+    normA[s] = 1.0;
     if (A[s].size() > 0) {
       Eigen::JacobiSVD<Eigen::MatrixXd> svd(A[s]);
       const Eigen::VectorXd &sv = svd.singularValues();
@@ -465,8 +508,6 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
           ++rk;
       rank = std::max(rank, rk);
     }
-    for (int i = 0; i < nr; ++i)
-      scale[s][i] = std::abs(r[s][i]);
   }
   std::vector<std::pair<int, int>> pivots = eliminate(rows, A, r, rank, normA);
   out_.pivotRows.clear();
@@ -508,7 +549,13 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     addConstraint(rows[i].rem, rows[i].sources);
     gaveConstraint_.insert(i);
     int failed = -1;
+    stationaryFailure_ = false;
     if (!samplePoints(pts, &failed)) {
+      if (!stationaryFailure_) {
+        // No point found, but no proof of a conflict either.
+        undecided_ = true;
+        return false;
+      }
       out_.conflict = static_cast<int>(out_.constraints.size()) - 1;
       return false;
     }
@@ -542,6 +589,8 @@ int Sga::constraintRank(const Point &p) {
   for (size_t c = 0; c < ncons; ++c)
     for (auto [s, g] : gradients_[c])
       J(static_cast<Eigen::Index>(c), s) = valueAt(g, env, ok);
+  Eigen::VectorXd unused = Eigen::VectorXd::Zero(J.rows());
+  equilibrate(J, unused);
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
   const Eigen::VectorXd &sv = svd.singularValues();
   int rank = 0;
@@ -604,6 +653,8 @@ void Sga::finish(const std::vector<Point> &pts) {
   evaluateRows(one, A, r);
   int rank = 0;
   if (nc > 0) {
+    // Column scaling keeps which columns the kernel touches.
+    equilibrate(A[0], r[0]);
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(A[0], Eigen::ComputeFullV);
     const Eigen::VectorXd &sv = svd.singularValues();
     for (Eigen::Index i = 0; i < sv.size(); ++i)
@@ -644,6 +695,12 @@ void Sga::run() {
     ++out_.steps;
     bool grew = false;
     if (!step(pts, grew)) {
+      if (undecided_) {
+        out_.ran = false;
+        out_.skipped = "no point satisfying the constraints was found from "
+                       "the start values (Gauss-Newton did not converge)";
+        return;
+      }
       out_.outcome = SgaReport::Outcome::NoSolution;
       ++out_.generations;
       return;

@@ -14,6 +14,9 @@
 #include "passes/Sga.h"
 
 #include "ir/Print.h"
+#include "ir/Query.h"
+
+#include <cmath>
 
 #include <algorithm>
 
@@ -108,6 +111,28 @@ void dropEquations(ir::Model &m, SgaResult &sga, const std::vector<int> &drop) {
   sga.redundant.clear();
 }
 
+/// A zero-dimensional P_f is one point: a fixed start value elsewhere can
+/// never hold.
+bool checkFixedOnPoint(PassContext &ctx, const SgaResult &r) {
+  const ir::Model &m = ctx.model;
+  std::string where;
+  for (size_t i = 0; i < r.form.slots.size(); ++i)
+    where += (i ? ", " : "") + m.variableName(r.form.slots[i]) + " = " +
+             ir::printNumber(r.point[i]);
+  for (size_t i = 0; i < r.form.slots.size(); ++i) {
+    ir::VarKey k = r.form.slots[i];
+    const ir::Variable &v = m.variables[k.var];
+    if (k.order != 0 || !v.fixed)
+      continue;
+    if (std::abs(v.start - r.point[i]) <= 1e-8 * std::max(1.0, std::abs(r.point[i])))
+      continue;
+    ctx.diags.report(DiagId::ErrSgaFixedOffPoint, v.loc,
+                     {v.name, ir::printNumber(v.start), "(" + where + ")"});
+    return false;
+  }
+  return true;
+}
+
 class SgaPass : public TypedPass<SgaPass, Reads<>, Updates<>,
                                  Produces<SgaResult, ir::DaeSystem>> {
 public:
@@ -145,7 +170,22 @@ bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
     Diagnostic &d = ctx.diags.report(
         DiagId::ErrSgaNoSolution, m.equations[c.sources.front()].loc,
         {ir::printLsd(c.expr, &m), describeEquations(ctx, c.sources)});
-    noteEquations(ctx, d, c.sources);
+    // And the equations of the constraints it contradicts (those sharing
+    // a variable with it).
+    std::vector<int> also = c.sources;
+    std::vector<ir::VarKey> vars = ir::freeVariables(c.expr);
+    for (const SgaConstraintExpr &k : out.constraints) {
+      if (&k == &c)
+        continue;
+      for (ir::VarKey v : ir::freeVariables(k.expr))
+        if (std::find(vars.begin(), vars.end(), v) != vars.end()) {
+          for (int e : k.sources)
+            if (std::find(also.begin(), also.end(), e) == also.end())
+              also.push_back(e);
+          break;
+        }
+    }
+    noteEquations(ctx, d, also);
     return false;
   }
   case SgaReport::Outcome::NotUnique: {
@@ -166,6 +206,8 @@ bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
   case SgaReport::Outcome::Unique:
     break;
   }
+  if (out.dof == 0 && !checkFixedOnPoint(ctx, out))
+    return false;
   if (!out.redundant.empty()) {
     Diagnostic &d = ctx.diags.report(
         DiagId::WarnSgaRedundant, m.equations[out.redundant.front()].loc,

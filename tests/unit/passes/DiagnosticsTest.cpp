@@ -23,16 +23,18 @@ TEST(Diagnostics, StructurallySingularNamesEquationsAndVariables) {
   Outcome run = analyze(b);
   EXPECT_FALSE(run.ok);
   ASSERT_EQ(run.diags.size(), 1u);
+  // The geometric algorithm speaks first: x = 1 and 2 x = 3 conflict.
   EXPECT_EQ(run.diags[0].message,
-            "the model is structurally singular: equations at pend.lsd:4 "
-            "and :5 both determine only 'x'; nothing determines 'F'");
-  EXPECT_TRUE(run.result.singular);
-  EXPECT_EQ(run.result.underDetermined, (std::vector<std::string>{"F"}));
-  EXPECT_EQ(run.result.overDetermined.size(), 2u);
-  // Notes point at each equation.
-  ASSERT_EQ(run.diags[0].notes.size(), 3u);
-  EXPECT_EQ(run.diags[0].notes[0].message, "equation 'x = 1'");
-  EXPECT_EQ(run.diags[0].notes[0].range.begin.line, 4u);
+            "the model has no solution: the constraint '2 * x - 3 = 0', "
+            "derived from the equation at pend.lsd:5, cannot hold");
+  ASSERT_TRUE(run.result.sga);
+  EXPECT_EQ(run.result.sga->outcome, passes::SgaReport::Outcome::NoSolution);
+  // Notes point at the equation and at the one it conflicts with.
+  ASSERT_EQ(run.diags[0].notes.size(), 2u);
+  EXPECT_EQ(run.diags[0].notes[0].message, "equation '2 * x = 3'");
+  EXPECT_EQ(run.diags[0].notes[0].range.begin.line, 5u);
+  EXPECT_EQ(run.diags[0].notes[1].message, "equation 'x = 1'");
+  EXPECT_EQ(run.diags[0].notes[1].range.begin.line, 4u);
 }
 
 TEST(Diagnostics, OnlyUnderDetermined) {
@@ -44,7 +46,8 @@ TEST(Diagnostics, OnlyUnderDetermined) {
   EXPECT_FALSE(run.ok);
   ASSERT_EQ(run.diags.size(), 1u);
   EXPECT_EQ(run.diags[0].message,
-            "the model is structurally singular: nothing determines 'x' and "
+            "the model does not determine its solution: 1 free function(s) "
+            "remain (gauge freedom); nothing fixes the evolution of 'x' and "
             "'y'");
 }
 
@@ -59,9 +62,10 @@ TEST(Diagnostics, ThreeEquationsOverOneVariable) {
   Outcome run = analyze(b);
   EXPECT_FALSE(run.ok);
   ASSERT_GE(run.diags.size(), 1u);
+  // x * x = 1 allows x = 1 or -1; sin(x) = 0.5 then cannot hold.
   EXPECT_EQ(run.diags[0].message,
-            "the model is structurally singular: equations at over.lsd:5, :6 "
-            "and :7 all 3 determine only 'x'; nothing determines 'y' and 'z'");
+            "the model has no solution: the constraint 'sin(x) - 0.5 = 0', "
+            "derived from the equation at over.lsd:6, cannot hold");
 }
 
 TEST(Diagnostics, ConflictingFixedStartValuesAreNamed) {
@@ -216,7 +220,9 @@ TEST(Report, JsonAndTextAndReducedModel) {
   EXPECT_TRUE(j["blt"].is_array());
   EXPECT_EQ(j["init"]["dof"], 2);
   EXPECT_EQ(j["state_sets"].size(), 2u);
-  EXPECT_TRUE(j["outcome"].is_null());
+  EXPECT_EQ(j["outcome"], "unique");
+  EXPECT_EQ(j["free_functions"], 0);
+  EXPECT_EQ(j["constraints"].size(), 3u); // position, velocity, lambda
 
   std::ostringstream text;
   passes::printAnalysis(run.result, text);
