@@ -29,7 +29,7 @@ MatrixXd rangeBasis(const MatrixXd &a, double tol) {
 
 MatrixXd nullBasis(const MatrixXd &a, double tol) {
   Index n = a.cols();
-  if (a.rows() == 0)
+  if (a.rows() == 0 || n == 0) // Eigen's SVD of an empty matrix crashes
     return MatrixXd::Identity(n, n);
   Eigen::JacobiSVD<MatrixXd> svd(a, Eigen::ComputeFullV);
   Index r = rankOf(svd.singularValues(), tol);
