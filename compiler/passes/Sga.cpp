@@ -109,6 +109,8 @@ double valueAt(ir::ExprRef e, const ir::EvalEnv &env, bool &ok) {
 /// picofarad capacitor beside a henry inductor is not a zero. Row
 /// operations on the scaled rows are those on the rows, up to row scale.
 void equilibrate(Eigen::MatrixXd &A, Eigen::VectorXd &r) {
+  if (A.rows() == 0 || A.cols() == 0) // Eigen's maxCoeff of nothing crashes
+    return;
   for (Eigen::Index c = 0; c < A.cols(); ++c) {
     double m = A.col(c).cwiseAbs().maxCoeff();
     if (m > 0 && std::isfinite(m))
@@ -521,8 +523,8 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
       continue;
     bool zero = true;
     for (size_t s = 0; s < A.size() && zero; ++s)
-      zero = A[s].row(i).cwiseAbs().maxCoeff() <= kZeroTol * normA[s] ||
-             A[s].cols() == 0;
+      zero = A[s].cols() == 0 ||
+             A[s].row(i).cwiseAbs().maxCoeff() <= kZeroTol * normA[s];
     if (zero)
       candidates.push_back(i);
   }
@@ -652,7 +654,12 @@ void Sga::finish(const std::vector<Point> &pts) {
   std::vector<Point> one{p};
   evaluateRows(one, A, r);
   int rank = 0;
-  if (nc > 0) {
+  if (nc > 0 && A[0].rows() == 0) {
+    // No equation: every derivative is free (Eigen's SVD of an empty
+    // matrix crashes).
+    for (size_t c = 0; c < nc; ++c)
+      out_.freeColumns.push_back(static_cast<int>(c));
+  } else if (nc > 0) {
     // Column scaling keeps which columns the kernel touches.
     equilibrate(A[0], r[0]);
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(A[0], Eigen::ComputeFullV);
