@@ -451,6 +451,10 @@ Sga::eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
       colDone[pcol] = 1;
       pivots.emplace_back(pr, pcol);
       ir::ExprRef piv = rows[pr].coef[pcol];
+      std::vector<int> pattern;
+      for (int c = 0; c < nc; ++c)
+        if (c != pcol && rows[pr].coef[c])
+          pattern.push_back(c);
       for (int j = 0; j < nr; ++j) {
         if (j == pr || rows[j].pivoted || !rows[j].coef[pcol])
           continue;
@@ -475,9 +479,11 @@ Sga::eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
         rows[j].coef[pcol] = nullptr;
         rows[j].rem = ex_.sub(rows[j].rem, ex_.mul(mu, rows[pr].rem));
         rows[j].sources = merged(rows[j].sources, rows[pr].sources);
+        // The pivot row's nonzeros are its symbolic pattern.
         for (size_t s = 0; s < np; ++s) {
           double m = A[s](j, pcol) / A[s](pr, pcol);
-          A[s].row(j) -= m * A[s].row(pr);
+          for (int c : pattern)
+            A[s](j, c) -= m * A[s](pr, c);
           A[s](j, pcol) = 0;
           r[s][j] -= m * r[s][pr];
         }
@@ -502,7 +508,7 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     equilibrate(A[s], r[s]);
     normA[s] = 1.0;
     if (A[s].size() > 0) {
-      Eigen::JacobiSVD<Eigen::MatrixXd> svd(A[s]);
+      Eigen::BDCSVD<Eigen::MatrixXd> svd(A[s]);
       const Eigen::VectorXd &sv = svd.singularValues();
       int rk = 0;
       for (Eigen::Index i = 0; i < sv.size(); ++i)
@@ -528,16 +534,52 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     if (zero)
       candidates.push_back(i);
   }
-  for (int i : candidates) {
+  auto scaleOf = [&](int i) {
     double sc = 0;
     for (size_t s = 0; s < A.size(); ++s)
       sc = std::max(sc, scale[s][i]);
-    const SgaRow own = out_.rows[i]; // a copy: rows grow below
-    if (std::find(out_.redundant.begin(), out_.redundant.end(),
-                  own.sources.front()) != out_.redundant.end() &&
-        own.constraint < 0)
+    return std::max(sc, 1.0);
+  };
+  auto skipped = [&](int i) {
+    const SgaRow &own = out_.rows[i];
+    return own.constraint < 0 &&
+           std::find(out_.redundant.begin(), out_.redundant.end(),
+                     own.sources.front()) != out_.redundant.end();
+  };
+  // All new candidates at once first: one projection instead of one per
+  // constraint (a 50-body chain has 150 of them). Only when the points
+  // cannot be found or the constraints turn out dependent is each added
+  // alone, to name the conflict or the redundant equation.
+  std::vector<int> fresh;
+  for (int i : candidates)
+    if (!skipped(i) && !holds(rows[i].rem, pts, scaleOf(i)))
+      fresh.push_back(i);
+  std::set<int> batched;
+  if (fresh.size() > 1) {
+    const size_t ncons = out_.constraints.size(), nrows = out_.rows.size();
+    for (int i : fresh)
+      addConstraint(rows[i].rem, rows[i].sources);
+    std::vector<Point> trial;
+    if (samplePoints(trial, nullptr) &&
+        constraintRank(trial[0]) == static_cast<int>(out_.constraints.size())) {
+      pts = std::move(trial);
+      batched.insert(fresh.begin(), fresh.end());
+      gaveConstraint_.insert(fresh.begin(), fresh.end());
+      grew = true;
+    } else {
+      out_.constraints.resize(ncons);
+      gradients_.resize(ncons);
+      out_.rows.resize(nrows);
+    }
+  }
+  for (int i : candidates) {
+    if (batched.count(i))
       continue;
-    if (holds(rows[i].rem, pts, std::max(sc, 1.0))) {
+    const double sc = scaleOf(i);
+    const SgaRow own = out_.rows[i]; // a copy: rows grow below
+    if (skipped(i))
+      continue;
+    if (holds(rows[i].rem, pts, sc)) {
       if (!gaveConstraint_.count(i))
         implied_.push_back({rows[i].rem, rows[i].sources, 0});
       // A model equation whose row is implied by the others on the current
@@ -593,7 +635,7 @@ int Sga::constraintRank(const Point &p) {
       J(static_cast<Eigen::Index>(c), s) = valueAt(g, env, ok);
   Eigen::VectorXd unused = Eigen::VectorXd::Zero(J.rows());
   equilibrate(J, unused);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(J);
   const Eigen::VectorXd &sv = svd.singularValues();
   int rank = 0;
   for (Eigen::Index i = 0; i < sv.size(); ++i)
@@ -662,7 +704,7 @@ void Sga::finish(const std::vector<Point> &pts) {
   } else if (nc > 0) {
     // Column scaling keeps which columns the kernel touches.
     equilibrate(A[0], r[0]);
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(A[0], Eigen::ComputeFullV);
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(A[0], Eigen::ComputeFullV);
     const Eigen::VectorXd &sv = svd.singularValues();
     for (Eigen::Index i = 0; i < sv.size(); ++i)
       if (sv[0] > 0 && sv[i] > kRankTol * sv[0])
