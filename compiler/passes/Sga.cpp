@@ -687,35 +687,49 @@ void Sga::finish(const std::vector<Point> &pts) {
   if (out_.redundant.empty() && mr_.equations.size() > mr_.unknowns.size())
     findImpliedEquations();
   const size_t ns = out_.form.slots.size(), nc = out_.form.columns.size();
-  const Point &p = pts[0];
-  // dim P_f: slots minus the rank of the constraints' Jacobian there.
-  out_.dof = static_cast<int>(ns) - constraintRank(p);
-  // The kernel of A on P_f: the free functions and what they move.
-  std::vector<Eigen::MatrixXd> A;
-  std::vector<Eigen::VectorXd> r;
-  std::vector<Point> one{p};
-  evaluateRows(one, A, r);
-  int rank = 0;
-  if (nc > 0 && A[0].rows() == 0) {
-    // No equation: every derivative is free (Eigen's SVD of an empty
-    // matrix crashes).
-    for (size_t c = 0; c < nc; ++c)
-      out_.freeColumns.push_back(static_cast<int>(c));
-  } else if (nc > 0) {
+  // Ranks are generic: the largest over the points (a point may sit near
+  // a configuration where A loses rank). The kernel is taken there.
+  size_t best = 0;
+  int rank = -1, crank = 0;
+  Eigen::MatrixXd kernel;
+  for (size_t k = 0; k < pts.size(); ++k) {
+    crank = std::max(crank, constraintRank(pts[k]));
+    std::vector<Eigen::MatrixXd> A;
+    std::vector<Eigen::VectorXd> r;
+    std::vector<Point> one{pts[k]};
+    evaluateRows(one, A, r);
+    if (nc == 0 || A[0].rows() == 0) {
+      // No equation: every derivative is free (Eigen's SVD of an empty
+      // matrix crashes).
+      if (rank < 0) {
+        rank = 0;
+        kernel = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(nc),
+                                           static_cast<Eigen::Index>(nc));
+      }
+      continue;
+    }
     // Column scaling keeps which columns the kernel touches.
     equilibrate(A[0], r[0]);
     Eigen::BDCSVD<Eigen::MatrixXd> svd(A[0], Eigen::ComputeFullV);
     const Eigen::VectorXd &sv = svd.singularValues();
+    int rk = 0;
     for (Eigen::Index i = 0; i < sv.size(); ++i)
       if (sv[0] > 0 && sv[i] > kRankTol * sv[0])
-        ++rank;
-    Eigen::MatrixXd kernel =
-        svd.matrixV().rightCols(static_cast<Eigen::Index>(nc) - rank);
-    for (size_t c = 0; c < nc; ++c)
-      if (kernel.rows() > 0 && kernel.cols() > 0 &&
-          kernel.row(static_cast<Eigen::Index>(c)).norm() > 1e-8)
-        out_.freeColumns.push_back(static_cast<int>(c));
+        ++rk;
+    if (rk > rank) {
+      rank = rk;
+      best = k;
+      kernel = svd.matrixV().rightCols(static_cast<Eigen::Index>(nc) - rk);
+    }
   }
+  rank = std::max(rank, 0);
+  const Point &p = pts[best];
+  // dim P_f: slots minus the rank of the constraints' Jacobian.
+  out_.dof = static_cast<int>(ns) - crank;
+  for (size_t c = 0; c < nc; ++c)
+    if (kernel.rows() > 0 && kernel.cols() > 0 &&
+        kernel.row(static_cast<Eigen::Index>(c)).norm() > 1e-8)
+      out_.freeColumns.push_back(static_cast<int>(c));
   out_.freeFunctions = static_cast<int>(nc) - rank;
   out_.outcome = out_.freeFunctions > 0 ? SgaReport::Outcome::NotUnique
                                         : SgaReport::Outcome::Unique;

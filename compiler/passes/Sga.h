@@ -76,8 +76,9 @@ struct SgaResult {
 };
 
 /// Largest number of slots the SGA runs on inside the dd pipeline's
-/// cross-check (its dense rank decisions cost O(n^3) per step).
-inline constexpr size_t kSgaCrossCheckLimit = 400;
+/// cross-check: bench/run_sga.py measures 0.28 s at 125 coordinates, 1.7 s
+/// at 250 (a pendulum chain), hundreds of times structural reduction.
+inline constexpr size_t kSgaCrossCheckLimit = 150;
 
 /// The unknowns (continuous variables), equations and highest orders of
 /// the model as it stands.
