@@ -100,7 +100,7 @@ static int run(int argc, char **argv) {
   // the verdict: redundant but consistent equations are solved without,
   // too few or conflicting ones are errors naming the free variables or
   // the conflict.
-  frontend::checkBalance(*model, diags, /*asError=*/false);
+  frontend::checkBalance(*model, diags);
   diags.flush(std::cerr);
   if (opts.timePasses)
     std::cerr << "frontend: " << msSince(stageStart) << " ms\n";

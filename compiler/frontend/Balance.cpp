@@ -20,8 +20,7 @@ std::string inComponent(const std::string &component) {
 
 } // namespace
 
-bool checkBalance(const ir::Model &model, DiagnosticEngine &diags,
-                  bool asError) {
+bool checkBalance(const ir::Model &model, DiagnosticEngine &diags) {
   // Discrete variables assigned in when-clauses are not unknowns of the
   // continuous system.
   std::vector<bool> whenAssigned(model.variables.size(), false);
@@ -56,9 +55,7 @@ bool checkBalance(const ir::Model &model, DiagnosticEngine &diags,
   const std::vector<int> &matchU = matching.colMate;
   const std::vector<int> &matchE = matching.rowMate;
 
-  Diagnostic &d = diags.report(asError ? DiagId::ErrUnbalanced
-                                       : DiagId::WarnUnbalanced,
-                               model.loc,
+  Diagnostic &d = diags.report(DiagId::WarnUnbalanced, model.loc,
                                {model.name, std::to_string(numEq),
                                 std::to_string(numUnknowns)});
   size_t notes = 0;

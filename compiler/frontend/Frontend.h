@@ -47,10 +47,9 @@ std::unique_ptr<ir::Model> compileSource(const std::string &path,
                                          SourceManager &sources,
                                          DiagnosticEngine &diags);
 
-/// Equation/unknown count check. Reports how many of each and which
-/// components they come from; as errors when `asError`, else warnings.
-/// Returns true if balanced.
-bool checkBalance(const ir::Model &model, DiagnosticEngine &diags,
-                  bool asError);
+/// Equation/unknown count check: a warning saying how many of each and
+/// which components they come from (the geometric algorithm gives the
+/// verdict, docs/sga.md). Returns true if balanced.
+bool checkBalance(const ir::Model &model, DiagnosticEngine &diags);
 
 } // namespace ldae::frontend

@@ -43,7 +43,7 @@ namespace {
 constexpr int kPoints = 3;          // sample points per step
 constexpr int kDrawAttempts = 5;    // random draws per point
 constexpr double kRankTol = 1e-9;   // singular values below count as 0
-constexpr double kZeroTol = 1e-8;   // |a_ic| / max|A| below: vanishes
+constexpr double kZeroTol = 1e-8;   // equilibrated |a_ic| below: vanishes
 constexpr double kHoldTol = 1e-8;   // |phi| / its scale below: holds
 constexpr double kPivotBand = 0.1;  // pivots within this of the largest
 
@@ -144,13 +144,12 @@ struct WorkRow {
 class Sga {
 public:
   Sga(PassContext &ctx, const MatchingResult &mr, SgaResult &out)
-      : pc_(ctx), m_(ctx.model), ex_(m_.ctx()), mr_(mr), out_(out),
+      : m_(ctx.model), ex_(m_.ctx()), mr_(mr), out_(out),
         diff_(ex_), rng_(20261124) {}
 
   void run();
 
 private:
-  PassContext &pc_;
   const ir::Model &m_;
   ir::ExprContext &ex_;
   const MatchingResult &mr_;
@@ -170,7 +169,7 @@ private:
   void findImpliedEquations();
 
   void buildForm();
-  bool samplePoints(std::vector<Point> &pts, int *failed);
+  bool samplePoints(std::vector<Point> &pts);
   bool project(Point &p, size_t count);
   bool holds(ir::ExprRef phi, const std::vector<Point> &pts, double scale);
   /// One step; false when P_f turned out empty.
@@ -184,8 +183,7 @@ private:
                                     std::vector<Eigen::VectorXd> &r);
   std::vector<std::pair<int, int>>
   eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
-            std::vector<Eigen::VectorXd> &r, int rank,
-            const std::vector<double> &normA);
+            std::vector<Eigen::VectorXd> &r, int rank);
 };
 
 void Sga::buildForm() {
@@ -276,7 +274,7 @@ bool Sga::project(Point &p, size_t count) {
   return false;
 }
 
-bool Sga::samplePoints(std::vector<Point> &pts, int *failed) {
+bool Sga::samplePoints(std::vector<Point> &pts) {
   const size_t ns = out_.form.slots.size();
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   pts.assign(kPoints, Point{});
@@ -309,11 +307,8 @@ bool Sga::samplePoints(std::vector<Point> &pts, int *failed) {
         found = true;
       }
     }
-    if (!found) {
-      if (failed)
-        *failed = s;
+    if (!found)
       return false;
-    }
   }
   return true;
 }
@@ -388,8 +383,7 @@ std::vector<WorkRow> Sga::evaluateRows(const std::vector<Point> &pts,
 
 std::vector<std::pair<int, int>>
 Sga::eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
-               std::vector<Eigen::VectorXd> &r, int rank,
-               const std::vector<double> &normA) {
+               std::vector<Eigen::VectorXd> &r, int rank) {
   const int nr = static_cast<int>(rows.size());
   const int nc = static_cast<int>(out_.form.columns.size());
   const size_t np = A.size();
@@ -398,7 +392,7 @@ Sga::eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
   auto ratio = [&](int i, int c) {
     double least = INFINITY;
     for (size_t s = 0; s < np; ++s)
-      least = std::min(least, std::abs(A[s](i, c)) / normA[s]);
+      least = std::min(least, std::abs(A[s](i, c)));
     return least;
   };
   // The model's equations are pivots before tangency rows: then the
@@ -460,7 +454,7 @@ Sga::eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
           continue;
         bool vanishes = true;
         for (size_t s = 0; s < np; ++s)
-          vanishes = vanishes && std::abs(A[s](j, pcol)) <= kZeroTol * normA[s];
+          vanishes = vanishes && std::abs(A[s](j, pcol)) <= kZeroTol;
         if (vanishes) {
           // Vanishes on the manifold: nothing to eliminate there.
           rows[j].coef[pcol] = nullptr;
@@ -500,13 +494,11 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
   std::vector<WorkRow> rows = evaluateRows(pts, A, r);
   const int nr = static_cast<int>(rows.size());
   int rank = 0;
-  std::vector<double> normA(A.size(), 1.0);
   std::vector<std::vector<double>> scale(A.size(), std::vector<double>(nr));
   for (size_t s = 0; s < A.size(); ++s) {
     for (int i = 0; i < nr; ++i)
       scale[s][i] = std::abs(r[s][i]);
-    equilibrate(A[s], r[s]);
-    normA[s] = 1.0;
+    equilibrate(A[s], r[s]); // entries now relative: 1 the largest
     if (A[s].size() > 0) {
       Eigen::BDCSVD<Eigen::MatrixXd> svd(A[s]);
       const Eigen::VectorXd &sv = svd.singularValues();
@@ -517,7 +509,7 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
       rank = std::max(rank, rk);
     }
   }
-  std::vector<std::pair<int, int>> pivots = eliminate(rows, A, r, rank, normA);
+  std::vector<std::pair<int, int>> pivots = eliminate(rows, A, r, rank);
   out_.pivotRows.clear();
   for (auto [row, col] : pivots)
     out_.pivotRows.push_back(row);
@@ -530,7 +522,7 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     bool zero = true;
     for (size_t s = 0; s < A.size() && zero; ++s)
       zero = A[s].cols() == 0 ||
-             A[s].row(i).cwiseAbs().maxCoeff() <= kZeroTol * normA[s];
+             A[s].row(i).cwiseAbs().maxCoeff() <= kZeroTol;
     if (zero)
       candidates.push_back(i);
   }
@@ -560,7 +552,7 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     for (int i : fresh)
       addConstraint(rows[i].rem, rows[i].sources);
     std::vector<Point> trial;
-    if (samplePoints(trial, nullptr) &&
+    if (samplePoints(trial) &&
         constraintRank(trial[0]) == static_cast<int>(out_.constraints.size())) {
       pts = std::move(trial);
       batched.insert(fresh.begin(), fresh.end());
@@ -592,9 +584,8 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     }
     addConstraint(rows[i].rem, rows[i].sources);
     gaveConstraint_.insert(i);
-    int failed = -1;
     stationaryFailure_ = false;
-    if (!samplePoints(pts, &failed)) {
+    if (!samplePoints(pts)) {
       if (!stationaryFailure_) {
         // No point found, but no proof of a conflict either.
         undecided_ = true;
@@ -613,7 +604,7 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
       out_.constraints.pop_back();
       out_.rows.pop_back();
       gradients_.pop_back();
-      if (!samplePoints(pts, &failed))
+      if (!samplePoints(pts))
         return false;
       continue;
     }
@@ -670,7 +661,7 @@ void Sga::findImpliedEquations() {
       addConstraint(phi.expr, phi.sources);
       out_.rows.resize(rowsBefore);
       std::vector<Point> pts;
-      bool implied = samplePoints(pts, nullptr) && holds(all[c].expr, pts, 1.0);
+      bool implied = samplePoints(pts) && holds(all[c].expr, pts, 1.0);
       out_.constraints = all;
       gradients_ = allGradients;
       if (implied) {
@@ -734,7 +725,6 @@ void Sga::finish(const std::vector<Point> &pts) {
   out_.outcome = out_.freeFunctions > 0 ? SgaReport::Outcome::NotUnique
                                         : SgaReport::Outcome::Unique;
   out_.point.assign(p.x.data(), p.x.data() + p.x.size());
-  out_.pointTime = p.t;
 }
 
 void Sga::run() {
@@ -748,7 +738,7 @@ void Sga::run() {
     out_.rows.push_back(row);
   }
   std::vector<Point> pts;
-  if (!samplePoints(pts, nullptr)) {
+  if (!samplePoints(pts)) {
     out_.ran = false;
     out_.skipped = "no point where every equation is defined was found";
     return;

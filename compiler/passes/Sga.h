@@ -71,8 +71,7 @@ struct SgaResult {
   int dof = 0;                // dim P_f (slots minus constraints)
   int freeFunctions = 0;
   int steps = 0;
-  std::vector<double> point; // slots at a point of P_f (time pointTime)
-  double pointTime = 0;
+  std::vector<double> point; // slots at a point of P_f
 };
 
 /// Largest number of slots the SGA runs on inside the dd pipeline's

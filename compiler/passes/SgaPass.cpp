@@ -17,6 +17,7 @@
 #include "ir/Query.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include <algorithm>
 
@@ -115,10 +116,16 @@ void dropEquations(ir::Model &m, SgaResult &sga, const std::vector<int> &drop) {
 /// never hold.
 bool checkFixedOnPoint(PassContext &ctx, const SgaResult &r) {
   const ir::Model &m = ctx.model;
+  // Ten digits: the point is found by Gauss-Newton, its last bits are noise.
+  auto digits = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return std::string(buf);
+  };
   std::string where;
   for (size_t i = 0; i < r.form.slots.size(); ++i)
     where += (i ? ", " : "") + m.variableName(r.form.slots[i]) + " = " +
-             ir::printNumber(r.point[i]);
+             digits(r.point[i]);
   for (size_t i = 0; i < r.form.slots.size(); ++i) {
     ir::VarKey k = r.form.slots[i];
     const ir::Variable &v = m.variables[k.var];

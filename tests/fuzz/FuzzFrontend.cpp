@@ -29,7 +29,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (model) {
     // `--emit flat`, the balance check and `--analyze --json`, in process.
     (void)model->print();
-    frontend::checkBalance(*model, diags, /*asError=*/false);
+    frontend::checkBalance(*model, diags);
     passes::PipelineOptions passOpts;
     passes::AnalysisResult result;
     passes::runPipeline(*model, passOpts, diags, result);

@@ -56,7 +56,7 @@ TEST(FrontendApi, FlatNamesLocationsAndText) {
   EXPECT_EQ(m.equations[1].text, "der(x) = -k * x");
   EXPECT_EQ(m.equations[1].loc.line, 6u);
   EXPECT_EQ(m.equations[1].loc.col, 3u);
-  EXPECT_TRUE(frontend::checkBalance(m, c->diags, true));
+  EXPECT_TRUE(frontend::checkBalance(m, c->diags));
 }
 
 TEST(FrontendApi, ConnectionOriginsAndComponents) {
@@ -86,7 +86,7 @@ TEST(FrontendApi, ConnectionOriginsAndComponents) {
   EXPECT_EQ(m.parameters[*R].component, "r");
   for (const ir::Equation &e : m.equations)
     EXPECT_TRUE(e.loc.valid()) << e.text;
-  EXPECT_TRUE(frontend::checkBalance(m, c->diags, true));
+  EXPECT_TRUE(frontend::checkBalance(m, c->diags));
 }
 
 TEST(FrontendApi, OverridesSizeArrays) {

@@ -142,7 +142,7 @@ TEST(FrontendFuzz, TenThousandCorruptedModels) {
     try {
       model = frontend::compileSource("fuzz.lsd", text, opts, sources, diags);
       if (model) {
-        frontend::checkBalance(*model, diags, false);
+        frontend::checkBalance(*model, diags);
         (void)model->print();
       }
       for (const Diagnostic &d : diags.diagnostics())
