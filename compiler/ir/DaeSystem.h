@@ -64,6 +64,67 @@ struct SystemOutput {
   SourceLoc loc; // the equation computing it (causalization), if any
 };
 
+/// What a discrete value is (ldae_model::discrete_kind, LDAE_DISCRETE_*).
+enum class DiscreteKind { Variable, Relation, When, Sample, Initial, Terminal };
+
+/// One value of the discrete state. Continuous expressions read its current
+/// value as Parameter(parameterValues.size() + k) and its pre() value as
+/// Parameter(parameterValues.size() + discrete.size() + k) (ParamIds past
+/// the model's own parameters; ldae_model's p layout).
+struct DiscreteValue {
+  std::string name;  // the variable's name, or the relation as lsd text
+  DiscreteKind kind = DiscreteKind::Variable;
+  double start = 0;  // before the initial event
+};
+
+/// `reinit(x, value)`: y[unknown] becomes `value` where `fired` is 1.
+struct ReinitUpdate {
+  uint32_t unknown = 0;
+  ExprRef value = nullptr; // over the layout (pre() of x reads y[unknown])
+  ExprRef fired = nullptr;
+};
+
+struct TerminateUpdate {
+  ExprRef fired = nullptr;
+  std::string message;
+};
+
+struct AssertCheck {
+  ExprRef condition = nullptr; // 1 holds, 0 fails
+  std::string message;
+  int level = 0; // 0 error, 1 warning
+  SourceLoc loc;
+};
+
+/// The event part of a system (docs/events.md; ldae_model's ABI 6 fields).
+/// Every expression is over the layout rule, like outputs.
+struct EventSystem {
+  std::vector<DiscreteValue> discrete;
+  /// The new value of each discrete value (size discrete.size()), the
+  /// event update of ldae_model: relations from y, discrete equations
+  /// inlined in dependency order, when-assignments `if fired then e else
+  /// pre(v)`; sample/initial/terminal values copy their current value.
+  std::vector<ExprRef> update;
+  /// For each entry of DaeSystem::roots, the relation it switches.
+  std::vector<uint32_t> rootRelation;
+  std::vector<ReinitUpdate> reinits;
+  std::vector<TerminateUpdate> terminates;
+  /// Time relations: threshold (over parameters and discrete values) and
+  /// the relation's discrete index.
+  std::vector<ExprRef> timeThresholds;
+  std::vector<uint32_t> thresholdRelation;
+  /// sample(start, interval): its discrete index.
+  std::vector<std::pair<ExprRef, ExprRef>> samples;
+  std::vector<uint32_t> sampleDiscrete;
+  std::vector<AssertCheck> asserts;
+  /// Variable structure: the discrete values choosing this mode's
+  /// branches, and the values this system was built for.
+  std::vector<uint32_t> modeDiscrete;
+  std::vector<double> modeValues;
+
+  bool empty() const { return discrete.empty() && asserts.empty(); }
+};
+
 struct DaeSystem {
   std::shared_ptr<ExprContext> ctx;
   const Model *model = nullptr; // names, parameters, locations
@@ -76,7 +137,8 @@ struct DaeSystem {
   /// Constraints of the original model the reduced one must keep
   /// (their largest residual is reported as drift).
   std::vector<ExprRef> constraints;
-  /// Root functions for events (when-conditions, if-switches).
+  /// Root functions for events: lhs - rhs of each relation on continuous
+  /// unknowns (events.rootRelation says which).
   std::vector<ExprRef> roots;
   std::vector<SystemOutput> outputs;
   /// Source location of the equation behind each residual row.
@@ -100,6 +162,14 @@ struct DaeSystem {
   int index = 1;
   /// The causalized unknowns, in assignment order (empty before causalize).
   std::vector<TestedValue> tested;
+  /// Events and the discrete state (empty for a purely continuous model).
+  EventSystem events;
+  /// The jump rule's pencil of the model as written (ldae_model::dummy_of,
+  /// original_row): per state set, the slot each dummy derivative slot
+  /// differentiates (-1: none), and whether each residual row is an
+  /// equation as written. Empty: no dummies, every row original.
+  std::vector<std::vector<int>> dummyOf;
+  std::vector<std::vector<bool>> originalRow;
 };
 
 /// Whether slot i of state set `set` is differential (a set without its

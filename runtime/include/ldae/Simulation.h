@@ -9,6 +9,7 @@
 #include "ldae/model.h"
 #include "support/Expected.h"
 
+#include <functional>
 #include <iosfwd>
 #include <map>
 #include <optional>
@@ -66,6 +67,13 @@ struct SimOptions {
   std::optional<bool> algebraicErrorTest;
   /// Parameter values overriding the model's defaults, by name.
   std::map<std::string, double> params;
+  /// Variable structure (ldae_model::n_mode > 0): the model of the mode
+  /// whose mode values (ldae_model::mode_discrete order) are `values`,
+  /// built on first use and kept alive by the provider. An Error says why
+  /// it cannot be built. Unset: a change of mode ends the run (status 3)
+  /// naming the condition.
+  std::function<Expected<const ldae_model *>(const std::vector<double> &values)>
+      modeProvider;
 };
 
 /// Counters of one run (summed over all IDA re-initializations).
@@ -77,6 +85,10 @@ struct SimStats {
   long convergenceFailures = 0; ///< nonlinear solver failures
   long stateSwitches = 0;
   long rootsFound = 0;
+  long events = 0;       ///< state and time events handled (initial excluded)
+  long timeEvents = 0;   ///< of which time events (sample, time relations)
+  long modeSwitches = 0; ///< changes of structure (variable-structure models)
+  long jumps = 0;        ///< events after which continuous unknowns jumped
   double maxDrift = 0; ///< largest |model.drift| seen at output points
   /// Projections onto the constraints (`--method sga|ode`: the start,
   /// every step, output rows).

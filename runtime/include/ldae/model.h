@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 5
+#define LDAE_ABI_VERSION 6
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -66,6 +66,19 @@ typedef int (*ldae_constraints_fn)(double t, const double *x, const double *p,
                                    double *c);
 typedef int (*ldae_constraint_jacobian_fn)(double t, const double *x,
                                            const double *p, double *Jc);
+
+/* What a discrete value is (ldae_model::discrete_kind). */
+enum {
+  LDAE_DISCRETE_VARIABLE = 0, /* a Boolean, Integer or discrete Real variable,
+                                 or one assigned in a when-clause */
+  LDAE_DISCRETE_RELATION = 1, /* the value (1/0) of a relation on continuous
+                                 unknowns or time, frozen between events */
+  LDAE_DISCRETE_WHEN = 2,     /* the value of a when-clause's condition */
+  LDAE_DISCRETE_SAMPLE = 3,   /* sample(start, interval): 1 at its instants,
+                                 set by the runtime */
+  LDAE_DISCRETE_INITIAL = 4,  /* initial(): 1 during the initial event */
+  LDAE_DISCRETE_TERMINAL = 5  /* terminal(): 1 during the terminal event */
+};
 
 /* One choice of states for dynamic state selection. All sets share the
    unknown layout; they differ in residuals and differential flags. */
@@ -182,6 +195,83 @@ typedef struct ldae_model {
   const int *tested_jac_colptr;        /* n + 1 */
   const int *tested_jac_rowind;        /* tested_jac_nnz */
   ldae_jacobian_csc_fn tested_jacobian_csc;
+
+  /* ---- Events (ABI 6; docs/events.md) ----
+     The discrete state: n_discrete values kept by the run beside y. Every
+     function of this struct receives them after the parameters:
+       p[n_params + k]              discrete value k (frozen between events)
+       p[n_params + n_discrete + k] its pre() value
+     so p has n_params + 2 * n_discrete entries. Between events nothing
+     changes them: a relation on continuous unknowns is read from its
+     frozen value, so residuals and Jacobians stay smooth while the
+     integrator steps, and `roots` tells when it would change. */
+  int n_discrete;
+  const char *const *discrete_names;   /* n_discrete: "heat", "h <= 0" */
+  const double *discrete_start;        /* n_discrete: before the initial event */
+  const int *discrete_kind;            /* n_discrete: LDAE_DISCRETE_* */
+  /* Root j (of n_roots) is lhs - rhs of relation discrete value
+     root_relation[j]: an event happens where it changes sign. */
+  const int *root_relation;            /* n_roots */
+
+  /* The event update, called at an event with the continuous point (t, y,
+     y') and p's pre() values held: out = [the new value of each discrete
+     value (n_discrete) | each reinit's value (n_reinit) | whether each
+     reinit fired, 1/0 (n_reinit) | whether each terminate fired, 1/0
+     (n_terminate)]. Relations are evaluated from y (not their frozen
+     values), time relations as their right limit (`time > t0` is 1 at
+     t0), discrete equations in dependency order, and a when-clause fires
+     where its condition is 1 and its pre() is 0 (during the initial
+     event only a condition with initial() fires); a variable assigned in a
+     when-clause that does not fire keeps its pre() value. Sample, initial
+     and terminal values are inputs: the update copies their current
+     values. The runtime iterates: pre := current; update; apply reinits;
+     re-initialize; until no discrete value changes (docs/events.md). */
+  int n_reinit;
+  const int *reinit_target;            /* n_reinit: unknown index in y */
+  int n_terminate;
+  const char *const *terminate_message; /* n_terminate */
+  ldae_outputs_fn event_update;        /* NULL when n_discrete == 0 */
+
+  /* Time events, hit exactly (a stop time of the integrator, no root
+     search): out = [the threshold of each time relation (n_time_thresholds:
+     `time >= t0` gives t0) | start and interval of each sample
+     (2 * n_samples)]. They read only t, parameters and discrete values;
+     the runtime evaluates them again after each event. */
+  int n_time_thresholds;
+  const int *threshold_relation;       /* n_time_thresholds: discrete index */
+  int n_samples;
+  const int *sample_discrete;          /* n_samples: discrete index */
+  ldae_outputs_fn time_events;         /* NULL when both counts are 0 */
+
+  /* assert(condition, message, level): out = 1/0 per assert, checked at
+     every output row and event. Level 0 error (the run stops, status 3),
+     1 warning (reported once). */
+  int n_asserts;
+  const char *const *assert_message;   /* n_asserts */
+  const int *assert_level;             /* n_asserts */
+  const char *const *assert_origin;    /* n_asserts: "file:line:col" */
+  ldae_outputs_fn asserts;             /* NULL when n_asserts == 0 */
+
+  /* Variable structure: the discrete values whose values choose the
+     branches of if-equations whose branches differ in incidence (an ideal
+     switch). This model was compiled for mode_values of them; when an
+     event changes one, the run asks for the model of the new mode
+     (runtime SimOptions::modeProvider) and carries the point over by
+     variable name. n_mode = 0: one structure. */
+  int n_mode;
+  const int *mode_discrete;            /* n_mode: discrete index */
+  const double *mode_values;           /* n_mode */
+
+  /* The jump rule (LANGUAGE.md "Initial values", seed 002) needs the
+     pencil of the model as written, not of the reduced one:
+     dummy_of[set][i] = j when unknown i is, in state set `set`, a dummy
+     derivative standing for der(y[j]) (-1 otherwise); original_row[set][r]
+     = 1 when residual row
+     r of state set `set` is an equation of the model as written (0: made
+     by index reduction, or a link row). May be NULL (every row original,
+     no dummies). */
+  const int *const *dummy_of;          /* n_state_sets x n */
+  const int *const *original_row;      /* n_state_sets x n */
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians
