@@ -24,8 +24,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 class Case:
-    def __init__(self, ldaec, name):
+    def __init__(self, ldaec, name, extra=()):
         self.ldaec, self.name, self.failures = ldaec, name, []
+        self.extra = list(extra)  # a backend: --jit on
 
     def check(self, ok, what):
         print(("ok:   " if ok else "FAIL: ") + what)
@@ -37,7 +38,7 @@ class Case:
         """Runs ldaec on MODEL --simulate ARGS: (status, rows, stderr), or
         None after a failed check (wrong status, hang)."""
         cmd = [self.ldaec, os.path.join(HERE, model), "--simulate",
-               "--no-progress"] + args
+               "--no-progress"] + self.extra + args
         try:
             proc = subprocess.run(cmd, capture_output=True, text=True,
                                   timeout=timeout)
@@ -171,6 +172,18 @@ def bouncing_ball(c):
     c.check(abs(rows[-1]["time"] - stop) <= 1e-12 if rows else False,
             "last row at the stop time %.6f" % stop)
     print("events %s, steps %s" % (stat(err, "events"), stat(err, "steps")))
+
+    # A bounce 1e-9 before the stop time: its two rows, then the stop row
+    # (the last row was once dropped there).
+    stop = ref[0][0] + 1e-9
+    r = c.run("bouncing_ball.lsd", ["--rtol", "1e-11", "--atol", "1e-12",
+                                    "--outputs", "h,v", "--stop", repr(stop)])
+    if r:
+        rows = r[1]
+        c.check(len(event_pairs(rows)) == 1 and rows[-1]["time"] == stop,
+                "a bounce 1e-9 before the stop: its rows and the last row at "
+                "the stop time (last %s)" % (rows[-1]["time"] if rows else
+                                             None))
 
 
 def bouncing_ball_zeno(c):
@@ -549,24 +562,114 @@ def chatter(c):
                 rows[-1]["time"] if rows else None))
 
 
+# ---- the discrete operators -------------------------------------------------
+
+def features(c):
+    crossings = sorted(k + d for k in range(4) for d in (1 / 12, 5 / 12)
+                       if k + d < 3.2)
+    r = c.run("features.lsd", ["--outputs", "x,on,n,changes,x0,s,quiet",
+                               "--stats"])
+    if not r:
+        return
+    _, rows, err = r
+    print(err.strip())
+    last = rows[-1] if rows else {}
+    c.check(abs(last.get("time", 0) - 3.2) <= 1e-9, "terminate at x > 3.2: "
+            "the last row at 3.2 (%s)" % last.get("time"))
+    c.check("done at 3.2" in err, "terminate's message on the terminal")
+    c.check(err.count("x passed 2.9") == 1, "the warning-level assert "
+            "reported once")
+    c.check(last.get("n") == 4 and last.get("changes") == 7,
+            "edge counted 4 rising edges, change 7 changes (%s, %s)" % (
+                last.get("n"), last.get("changes")))
+    c.check(all(row["x0"] == 7 for row in rows), "x0 = x + 7 from the "
+            "initial event on (initial())")
+    pairs = event_pairs(rows)
+    at_events = {a["time"] for a, _ in pairs}
+    wrong = []
+    for row in rows:
+        t = row["time"]
+        if t in at_events:
+            continue
+        past = [x for x in crossings if x < t]
+        want = {"on": float(math.sin(2 * math.pi * t) > 0.5),
+                "n": float(sum(1 for x in past if x % 1 < 0.25)),
+                "changes": float(len(past)), "quiet": float(t > 2.6)}
+        wrong += ["%s at %g: %s (expected %s)" % (k, t, row[k], v)
+                  for k, v in want.items() if row[k] != v]
+        if abs(row["s"] - max(0.0, t - 2.25)) > 1e-9:
+            wrong.append("s at %g: %s" % (t, row["s"]))
+    c.check(not wrong, "on, n, changes, s, quiet at every row between "
+            "events (%s)" % wrong[:4])
+    got = sorted(at_events)
+    missing = [x for x in crossings + [2.25]
+               if min((abs(g - x) for g in got), default=1) > 1e-8]
+    c.check(not missing, "an event at each crossing of on and at the "
+            "smooth(0, ...) kink 2.25 (missing %s)" % missing)
+    c.check(all(abs(g - 2.6) > 1e-6 for g in got), "no event at noEvent's "
+            "2.6")
+
+    r = c.run("features.lsd", ["--param", "limit=1", "--outputs", "x"],
+              expect=3)
+    if not r:
+        return
+    _, rows, err = r
+    c.check("x reached the limit" in err, "an error-level assert stops the "
+            "run with its message (status 3)")
+    c.check(rows and abs(rows[-1]["time"] - 1) <= 1e-6 and
+            len([row for row in rows if row["time"] < 1]) == 10,
+            "the rows up to the assertion at t = 1 kept")
+
+
+# ---- the other backends ------------------------------------------------------
+
+def emit_c(c):
+    """The program `ldaec --emit c --main` writes (the events block in the
+    emitted C) against --simulate, every column of every row: the models
+    of one structure (a change of structure needs the compiler)."""
+    sys.path.insert(0, os.path.dirname(HERE))
+    import check_e2e
+    import check_emit_main as em
+    import tempfile
+    models = (("bouncing_ball", ["--rtol", "1e-10"]),
+              ("hysteresis", ["--rtol", "1e-10"]),
+              ("sampled_pi", ["--stop", "2.95", "--rtol", "1e-10"]),
+              ("half_wave_rectifier", ["--rtol", "1e-10"]),
+              ("features", []))
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, args in models:
+            path = os.path.join(HERE, name + ".lsd")
+            exe = em.build(c.ldaec, path, tmp, name)
+            em.same(em.run([exe] + args), em.simulate(c.ldaec, path, args),
+                    name, 1e-8)
+    c.failures += check_e2e.failures
+
+
 CASES = {f.__name__: f for f in (
     bouncing_ball, bouncing_ball_zeno, two_capacitors_switch,
     two_capacitors_resistor, two_capacitors_joined, half_wave_rectifier,
-    half_wave_rectifier_switch, hysteresis, sampled_pi, chatter)}
+    half_wave_rectifier_switch, hysteresis, sampled_pi, chatter,
+    features, emit_c)}
+# The same checks with the LLVM JIT (--jit auto interprets these small
+# models).
+JIT = ("bouncing_ball", "two_capacitors_switch", "half_wave_rectifier",
+       "half_wave_rectifier_switch", "hysteresis", "sampled_pi", "features")
 
 
 def main(argv):
+    names = list(CASES) + [n + "_jit" for n in JIT]
     if len(argv) >= 2 and argv[1] == "--list":
-        print("\n".join(CASES))
+        print("\n".join(names))
         return 0
-    if len(argv) < 3 or any(n not in CASES for n in argv[2:]):
+    if len(argv) < 3 or any(n not in names for n in argv[2:]):
         print(__doc__, file=sys.stderr)
         return 2
     failed = 0
     for name in argv[2:]:
         print("== %s" % name)
-        c = Case(argv[1], name)
-        CASES[name](c)
+        jit = name.endswith("_jit")
+        c = Case(argv[1], name, ["--jit", "on"] if jit else [])
+        CASES[name[:-4] if jit else name](c)
         failed += bool(c.failures)
         print("%s %s: %d check(s) failed" % ("FAIL" if c.failures else "ok",
                                              name, len(c.failures)))
