@@ -1,12 +1,27 @@
 // Residual and Jacobian evaluation through the C ABI (see ModelEval.h).
 #include "ModelEval.h"
 
-#include <cstring>
-
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fmt/format.h>
 
 namespace ldae::runtime {
+
+ModelEval::ModelEval(const ldae_model &m, std::vector<double> params)
+    : m_(m), p_(std::move(params)) {
+  int nd = std::max(m.n_discrete, 0);
+  if (p_.size() == size_t(std::max(m.n_params, 0)) && nd > 0) {
+    p_.insert(p_.end(), m.discrete_start, m.discrete_start + nd);
+    p_.insert(p_.end(), m.discrete_start, m.discrete_start + nd);
+  }
+}
+
+std::string ModelEval::discreteName(int k) const {
+  if (m_.discrete_names && m_.discrete_names[k])
+    return m_.discrete_names[k];
+  return fmt::format("d[{}]", k);
+}
 
 int ModelEval::jacobian(int k, double t, const double *y, const double *yp,
                         double cj, Eigen::MatrixXd &J) const {

@@ -1,7 +1,9 @@
 // Evaluating a compiled model through its C ABI with the runtime's choice of
 // parameters and state set: residuals, dense Jacobians (from the dense or
 // the CSC function, or by difference quotients when the model gives
-// neither), names and source locations for messages.
+// neither), names and source locations for messages. The parameter vector
+// every ABI function receives also carries the discrete state (ABI 6):
+// p = [parameters | discrete values | their pre() values].
 #pragma once
 
 #include "ldae/model.h"
@@ -18,11 +20,21 @@ using numeric::SparseLu;
 
 class ModelEval {
 public:
-  ModelEval(const ldae_model &m, std::vector<double> params)
-      : m_(m), p_(std::move(params)) {}
+  /// `params`: the n_params parameter values (the discrete values start
+  /// at discrete_start, current and pre alike), or all of p.
+  ModelEval(const ldae_model &m, std::vector<double> params);
 
   const ldae_model &model() const { return m_; }
+  /// p as the ABI functions take it (n_params + 2 * n_discrete values).
   const double *params() const { return p_.data(); }
+  int nDiscrete() const { return m_.n_discrete; }
+  /// The current discrete values (n_discrete) and their pre() values.
+  double *discrete() { return p_.data() + m_.n_params; }
+  const double *discrete() const { return p_.data() + m_.n_params; }
+  double *pre() { return discrete() + m_.n_discrete; }
+  const double *pre() const { return discrete() + m_.n_discrete; }
+  /// The discrete value's name ("d[3]" when the model has none).
+  std::string discreteName(int k) const;
   /// Index of the parameter called `name`, or -1.
   int paramIndex(const char *name) const;
   /// Changes a parameter for every later evaluation (the homotopy
@@ -45,8 +57,8 @@ public:
   /// J = dF_k/dy + cj dF_k/dy' in the set's CSC pattern (from the dense
   /// Jacobian or difference quotients, keeping the nonzeros, when the set
   /// has no CSC function: only hand-written models).
-  int jacobianCsc(int k, double t, const double *y, const double *yp,
-                  double cj, CscMatrix &J) const;
+  int jacobianCsc(int k, double t, const double *y, const double *yp, double cj,
+                  CscMatrix &J) const;
   /// jacobianParts in one shared CSC pattern, O(nnz) for a CSC model.
   int jacobianPartsCsc(int k, double t, const double *y, const double *yp,
                        CscMatrix &Fy, CscMatrix &E) const;

@@ -3,19 +3,22 @@
 // Integrator.h) one internal step at a time, interpolate onto the output
 // grid, switch state sets when the current one's pivot degrades, and keep
 // the results of a failed run.
-#include "ldae/Simulation.h"
+#include "Asserts.h"
 #include "ConsistentInit.h"
-#include "SparseInit.h"
+#include "EventLoop.h"
 #include "FailureReport.h"
 #include "Integrator.h"
 #include "Progress.h"
 #include "ResultWriter.h"
+#include "SparseInit.h"
 #include "StateSelection.h"
+#include "ldae/Simulation.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fmt/format.h>
+#include <map>
 #include <ostream>
 
 namespace ldae::runtime {
@@ -43,13 +46,15 @@ Expected<RunSettings> resolve(const ldae_model &m, const SimOptions &o) {
   // Non-finite times or tolerances make every later computation NaN (or
   // an endless run); the driver rejects them on its command line already,
   // this catches the experiment annotation and other callers.
-  for (auto [what, v] : {std::pair{"start time", s.start}, {"stop time", s.stop},
-                         {"rtol", s.rtol}, {"atol", s.atol}})
+  for (auto [what, v] : {std::pair{"start time", s.start},
+                         {"stop time", s.stop},
+                         {"rtol", s.rtol},
+                         {"atol", s.atol}})
     if (!std::isfinite(v))
       return Error{fmt::format("the {} {} is not finite", what, v)};
   if (o.interval && !std::isfinite(*o.interval))
-    return Error{fmt::format("the output interval {} is not finite",
-                             *o.interval)};
+    return Error{
+        fmt::format("the output interval {} is not finite", *o.interval)};
   if (!(s.stop >= s.start))
     return Error{fmt::format("the stop time {} is before the start time {}",
                              s.stop, s.start)};
@@ -85,12 +90,15 @@ Expected<std::vector<double>> resolveParams(const ldae_model &m,
 /// Collects rows and the drift maximum.
 class Recorder {
 public:
-  Recorder(const ModelEval &ev, std::vector<int> cols, SimResult &res)
+  Recorder(const ModelEval &ev, std::vector<int> cols, SimResult &res,
+           AssertChecker *asserts)
       : ev_(ev), m_(ev.model()), cols_(std::move(cols)), res_(res),
-        out_(std::max(m_.n_outputs, 0)), drift_(std::max(m_.n_drift, 0)) {}
+        asserts_(asserts), out_(std::max(m_.n_outputs, 0)),
+        drift_(std::max(m_.n_drift, 0)) {}
 
   /// Appends the row at `t`; false (and the failure) when an output left
-  /// its domain there: the rows so far are kept, the run stops.
+  /// its domain there or an assert of level error does not hold: the rows
+  /// so far are kept, the run stops.
   bool record(double t, const double *y, const double *yp) {
     std::vector<double> row{t};
     const double *src = y;
@@ -114,6 +122,11 @@ public:
         m_.drift(t, y, yp, ev_.params(), drift_.data()) == 0)
       for (double d : drift_)
         res_.stats.maxDrift = std::max(res_.stats.maxDrift, std::fabs(d));
+    if (asserts_)
+      if (auto failed = asserts_->check(t, y, yp)) {
+        res_.failure = *failed;
+        return false;
+      }
     return true;
   }
 
@@ -122,6 +135,7 @@ private:
   const ldae_model &m_;
   std::vector<int> cols_;
   SimResult &res_;
+  AssertChecker *asserts_;
   std::vector<double> out_, drift_;
 };
 
@@ -138,10 +152,9 @@ constexpr long kMaxStepsPerOutput = 100000;
 constexpr int kMaxDenseInitUnknowns = 10000;
 
 /// Hands a consistent point found by our own Newton iteration to IDA.
-bool adoptInitialPoint(const ModelEval &ev, Integrator &ida, int set,
-                       double t0, const std::vector<double> &y0,
-                       const InitOutcome &init, SimResult &res,
-                       std::ostream *log) {
+bool adoptInitialPoint(const ModelEval &ev, Integrator &ida, int set, double t0,
+                       const std::vector<double> &y0, const InitOutcome &init,
+                       SimResult &res, std::ostream *log) {
   reportMoves(ev, y0, init.y.data(), log);
   auto re = ida.reinit(set, t0, init.y.data(), init.yp.data());
   if (!re) {
@@ -156,17 +169,16 @@ bool adoptInitialPoint(const ModelEval &ev, Integrator &ida, int set,
 std::string initFailure(const ModelEval &ev, int set, double t0,
                         const InitOutcome &init) {
   if (init.domainRow >= 0)
-    return describeInitDomainError(ev, set, init.domainRow,
-                                   init.domainY.data(), t0);
+    return describeInitDomainError(ev, set, init.domainRow, init.domainY.data(),
+                                   t0);
   return fmt::format("initialization failed at t = {}: {}", t0, init.failure);
 }
 
 /// Finds the initial point from the start vector (y, yp) (IDA holds it);
 /// returns false (with the failure filled in) when there is none.
-bool initializeFrom(const ModelEval &ev, Integrator &ida, int set,
-                    double t0, double tNext, std::vector<double> y,
-                    std::vector<double> yp, SimResult &res,
-                    std::ostream *log) {
+bool initializeFrom(const ModelEval &ev, Integrator &ida, int set, double t0,
+                    double tNext, std::vector<double> y, std::vector<double> yp,
+                    SimResult &res, std::ostream *log) {
   int n = ev.n();
   if (isPlainIndexOne(ev, set, t0, y.data(), yp.data())) {
     if (ida.completeStart(tNext).ok()) {
@@ -210,9 +222,9 @@ bool initializeFrom(const ModelEval &ev, Integrator &ida, int set,
             "fixed values and initial equations; {} differential values "
             "kept, {} moved by the conditions{}\n",
             init.kept, init.moved,
-            init.projected ? fmt::format(" ({} in minimum-norm blocks)",
-                                         init.projected)
-                           : std::string());
+            init.projected
+                ? fmt::format(" ({} in minimum-norm blocks)", init.projected)
+                : std::string());
       return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
     }
     if (init.applicable) {
@@ -257,8 +269,8 @@ bool initializeFrom(const ModelEval &ev, Integrator &ida, int set,
 /// solved from the start values, to the actual one (lambda = 1), each
 /// initialization starting from the last; the step in lambda grows after a
 /// success and halves after a failure.
-bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set,
-                          double t0, double tNext, int lambda, SimResult &res,
+bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set, double t0,
+                          double tNext, int lambda, SimResult &res,
                           std::ostream *log) {
   const ldae_model &m = ev.model();
   int n = ev.n();
@@ -273,7 +285,8 @@ bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set,
   if (!from(0.0)) {
     ev.setParam(lambda, 1.0);
     res.failure = "the simplified model of homotopy() (lambda = 0) does not "
-                  "initialize either: " + res.failure;
+                  "initialize either: " +
+                  res.failure;
     return false;
   }
   double l = 0, step = 0.1;
@@ -362,6 +375,421 @@ bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
   return true;
 }
 
+/// The names of the columns a model can report: its outputs, or its
+/// unknowns when it has none.
+std::vector<std::string> availableColumns(const ldae_model &m) {
+  std::vector<std::string> available;
+  for (int i = 0; i < (m.n_outputs > 0 ? m.n_outputs : m.n); ++i) {
+    const char *name = m.n_outputs > 0
+                           ? m.output_names[i]
+                           : (m.var_names ? m.var_names[i] : nullptr);
+    available.push_back(name ? name : fmt::format("y[{}]", i));
+  }
+  return available;
+}
+
+/// The point a mode change hands from one mode's model to the next, by
+/// name (every variable is an unknown or an output of each model).
+struct Carry {
+  bool valid = false; ///< false: the run starts from the start values
+  double t = 0;
+  std::map<std::string, double> y, yp, discrete;
+  std::vector<double> modeValues; ///< of the new mode
+  std::string mode;               ///< "'closed' = 1" for messages
+};
+
+/// A root the integrator returns can sit exactly on the crossing (g = 0:
+/// a linear solution hits 0.8 to the last bit), where the relation still
+/// reads its old value and the event would change nothing. Moves the event
+/// point (t, y, y') within the last step to the first time, doubling from
+/// a few ulps, at which every root found has the sign it crosses to.
+void pastTheRoots(const ModelEval &ev, Integrator &ida, double &t,
+                  std::vector<double> &y, std::vector<double> &yp) {
+  const ldae_model &m = ev.model();
+  std::vector<int> found = ida.rootsFound();
+  std::vector<double> g(m.n_roots);
+  auto crossed = [&](double at, const double *ya, const double *ypa) {
+    if (m.roots(at, ya, ypa, ev.params(), g.data()) != 0)
+      return true; // nothing better to be had
+    for (int r = 0; r < m.n_roots; ++r)
+      if (found[r] != 0 && !(g[r] * found[r] > 0))
+        return false;
+    return true;
+  };
+  if (crossed(t, y.data(), yp.data()))
+    return;
+  double reach = ida.currentTime();
+  std::vector<double> ya(y.size()), ypa(yp.size());
+  for (double d = 4e-16 * std::max(1.0, std::fabs(t)); t + d <= reach; d *= 2) {
+    if (!ida.interpolate(t + d, ya.data(), ypa.data()))
+      return;
+    if (crossed(t + d, ya.data(), ypa.data())) {
+      t += d;
+      y = ya;
+      yp = ypa;
+      return;
+    }
+  }
+}
+
+/// How the run of one mode's model ended.
+enum class StageEnd { Done, ModeChange };
+
+/// One call of simulate(): the output grid, the table and the stages (a
+/// variable-structure model runs one per mode it reaches).
+class Run {
+public:
+  Run(const SimOptions &o, const RunSettings &s, SimResult &res)
+      : o_(o), s_(s), res_(res), progress_(o.progress, s.start, s.stop) {
+    double span = s.stop - s.start;
+    // Output grid start + k * interval, the last point exactly stop.
+    nOut_ = !o.times.empty() ? long(o.times.size())
+            : span > 0       ? long(outputRows(s.start, s.stop, s.interval)) - 1
+                             : 0;
+  }
+
+  /// A model without unknowns: the outputs at the output times.
+  void closedForm(const ldae_model &m, const std::vector<double> &params,
+                  const std::vector<int> &cols);
+  /// Runs `m` from its start values (carry not valid) or from the carried
+  /// point of a mode change, which it fills in when its own run ends in
+  /// one. An Error only for options the model refuses.
+  Expected<StageEnd> stage(const ldae_model &m,
+                           const std::vector<double> &params,
+                           const std::vector<int> &cols, Carry &carry);
+
+private:
+  double gridTime(long k) const {
+    if (!o_.times.empty())
+      return o_.times[k - 1];
+    return k >= nOut_ ? s_.stop : s_.start + double(k) * s_.interval;
+  }
+  void carryOver(const ModelEval &ev, double t, const std::vector<double> &y,
+                 const std::vector<double> &yp, Carry &carry) const;
+  void startFrom(ModelEval &ev, const Carry &carry, std::vector<double> &y,
+                 std::vector<double> &yp) const;
+
+  const SimOptions &o_;
+  const RunSettings &s_;
+  SimResult &res_;
+  Progress progress_;
+  long nOut_ = 0;
+  long k_ = 1; // next output time (of the grid, also with --every-step)
+};
+
+void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
+                     const std::vector<int> &cols) {
+  // Nothing left to integrate (alias elimination and constant folding
+  // solved everything): every output is a closed-form function of time.
+  // SUNDIALS cannot take an empty system (N_VMin of a length-0 vector
+  // reads element 0), so evaluate the outputs at the output times.
+  // Without solver steps, --every-step reports the same grid.
+  ModelEval ev(m, params);
+  AssertChecker asserts(ev, o_.log);
+  Recorder rec(ev, cols, res_, &asserts);
+  const double none = 0; // y and y' of length 0, never read
+  if (rec.record(s_.start, &none, &none))
+    for (long k = 1; s_.stop > s_.start && k <= nOut_; ++k)
+      if (!rec.record(gridTime(k), &none, &none))
+        break;
+}
+
+void Run::carryOver(const ModelEval &ev, double t, const std::vector<double> &y,
+                    const std::vector<double> &yp, Carry &carry) const {
+  const ldae_model &m = ev.model();
+  carry = Carry{};
+  carry.valid = true;
+  carry.t = t;
+  if (m.n_outputs > 0 && m.outputs) {
+    std::vector<double> out(m.n_outputs);
+    if (m.outputs(t, y.data(), yp.data(), ev.params(), out.data()) == 0)
+      for (int i = 0; i < m.n_outputs; ++i)
+        if (m.output_names && m.output_names[i])
+          carry.y[m.output_names[i]] = out[i];
+  }
+  for (int i = 0; i < m.n; ++i) {
+    carry.y[ev.varName(i)] = y[i];
+    carry.yp[ev.varName(i)] = yp[i];
+  }
+  for (int k = 0; k < ev.nDiscrete(); ++k)
+    carry.discrete[ev.discreteName(k)] = ev.discrete()[k];
+  for (int i = 0; i < m.n_mode; ++i) {
+    double v = ev.discrete()[m.mode_discrete[i]];
+    carry.modeValues.push_back(v);
+    carry.mode += fmt::format("{}'{}' = {:g}", i ? ", " : "",
+                              ev.discreteName(m.mode_discrete[i]), v);
+  }
+}
+
+void Run::startFrom(ModelEval &ev, const Carry &carry, std::vector<double> &y,
+                    std::vector<double> &yp) const {
+  for (int i = 0; i < ev.n(); ++i) {
+    std::string name = ev.varName(i);
+    if (auto it = carry.y.find(name); it != carry.y.end())
+      y[i] = it->second;
+    auto d = carry.yp.find(name);
+    yp[i] = d != carry.yp.end() ? d->second : 0.0;
+  }
+  for (int k = 0; k < ev.nDiscrete(); ++k)
+    if (auto it = carry.discrete.find(ev.discreteName(k));
+        it != carry.discrete.end())
+      ev.discrete()[k] = ev.pre()[k] = it->second;
+}
+
+Expected<StageEnd> Run::stage(const ldae_model &m,
+                              const std::vector<double> &params,
+                              const std::vector<int> &cols, Carry &carry) {
+  const bool fromStart = !carry.valid;
+  ModelEval ev(m, params);
+  AssertChecker asserts(ev, o_.log);
+  Recorder rec(ev, cols, res_, &asserts);
+  EventLoop events(ev, s_.rtol, o_.log);
+  const int n = m.n;
+  const double span = s_.stop - s_.start;
+  double t = fromStart ? s_.start : carry.t;
+  std::vector<double> y(m.start_y, m.start_y + n),
+      yp(m.start_yp, m.start_yp + n);
+  if (!fromStart)
+    startFrom(ev, carry, y, yp);
+
+  // Start with the best-conditioned state set at the start point.
+  int set = chooseStateSet(pivotConditions(ev, t, y.data(), yp.data()), 0);
+  ErrorWeights weights(ev, s_.rtol, s_.atol);
+  const bool errorTestAlgebraic =
+      o_.algebraicErrorTest.value_or(m.algebraic_error_test != 0);
+  auto firstOutput = [&](double from) {
+    return span > 0 ? std::min(s_.stop, from + s_.interval) : from + 1e-6;
+  };
+  auto made = makeIntegrator(ev, o_.integrator);
+  if (!made) {
+    if (fromStart)
+      return Error{made.error()};
+    res_.failure = fmt::format("t = {:.10g}: the model of the new mode: {}", t,
+                               made.error());
+    return StageEnd::Done;
+  }
+  Integrator &ida = **made;
+  auto done = [&](StageEnd end) -> Expected<StageEnd> {
+    ida.addCounters(res_.stats);
+    res_.stats.sparse = ida.sparse();
+    res_.stats.integrator = ida.name();
+    res_.stats.events += events.events();
+    res_.stats.timeEvents += events.timeEvents();
+    res_.stats.jumps += events.jumps();
+    return end;
+  };
+  // IDA and CVODE need stop > start; a zero-length run still initializes.
+  // The variables computed outside the integrator are error-tested with
+  // the algebraic unknowns (docs/runtime.md, "The error test").
+  if (errorTestAlgebraic && weights.propagates())
+    ida.weighErrors(&weights);
+  auto ok = ida.init(set, t, y.data(), yp.data(), s_.rtol, weights.atol(),
+                     span > 0 ? s_.stop : s_.start + 1e-6, errorTestAlgebraic);
+  if (!ok) {
+    // The options were fine; a SUNDIALS call failing from here on is a
+    // numerical failure of this run (status 3), never a command-line error.
+    res_.failure = describeSolverError(t, ok.error());
+    return done(StageEnd::Done);
+  }
+  auto init0 = std::chrono::steady_clock::now();
+  bool initialized =
+      fromStart ? initialize(ev, ida, set, t, firstOutput(t), res_, o_.log)
+                : initializeFrom(ev, ida, set, t, firstOutput(t), y, yp, res_,
+                                 o_.log);
+  res_.stats.initTime +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - init0)
+          .count();
+  if (!initialized)
+    return done(StageEnd::Done);
+  y.assign(ida.y(), ida.y() + n);
+  yp.assign(ida.yp(), ida.yp() + n);
+
+  // The re-initialization after an event: the held point made consistent
+  // with the new discrete values by the start's rule, the integrator
+  // restarted there.
+  Reinitialize reinit = [&](double te, std::vector<double> &ye,
+                            std::vector<double> &ype, const std::vector<int> &,
+                            std::string &failure) {
+    auto re = ida.reinit(ida.set(), te, ye.data(), ype.data());
+    if (!re) {
+      failure = describeSolverError(te, re.error());
+      return false;
+    }
+    if (!initializeFrom(ev, ida, ida.set(), te, firstOutput(te), ye, ype, res_,
+                        nullptr)) {
+      failure =
+          fmt::format("after the event at t = {:.10g}: {}", te, res_.failure);
+      res_.failure.clear();
+      return false;
+    }
+    ye.assign(ida.y(), ida.y() + n);
+    ype.assign(ida.yp(), ida.yp() + n);
+    return true;
+  };
+  // The rows and the end of the run after an event; nothing when the run
+  // goes on.
+  auto concluded = [&](EventOutcome out) -> std::optional<StageEnd> {
+    switch (out) {
+    case EventOutcome::Unchanged:
+    case EventOutcome::Handled:
+      return std::nullopt;
+    case EventOutcome::ModeChange:
+      carryOver(ev, t, y, yp, carry);
+      return StageEnd::ModeChange;
+    case EventOutcome::Failed:
+      res_.failure = events.message();
+      return StageEnd::Done;
+    case EventOutcome::Terminated:
+      if (o_.log)
+        *o_.log << fmt::format("t = {:.10g}: terminate: {}; the run ends "
+                               "here\n",
+                               t, events.message());
+      if (rec.record(t, y.data(), yp.data()) &&
+          events.terminal(t, y.data(), yp.data()))
+        rec.record(t, y.data(), yp.data());
+      return StageEnd::Done;
+    case EventOutcome::AtRest: {
+      if (o_.log)
+        *o_.log << events.message() << "\n";
+      std::vector<double> still(n, 0.0);
+      bool recorded = rec.record(t, y.data(), still.data());
+      for (; recorded && k_ <= nOut_; ++k_)
+        if (gridTime(k_) > t)
+          recorded = rec.record(gridTime(k_), y.data(), still.data());
+      if (recorded && res_.rows.back()[0] < s_.stop)
+        recorded = rec.record(s_.stop, y.data(), still.data());
+      if (recorded && events.terminal(s_.stop, y.data(), still.data()))
+        rec.record(s_.stop, y.data(), still.data());
+      return StageEnd::Done;
+    }
+    }
+    return StageEnd::Done;
+  };
+
+  EventOutcome first = fromStart ? events.initial(t, y, yp, reinit)
+                                 : events.resume(t, y, yp, reinit);
+  if (auto end = concluded(first))
+    return done(*end);
+  if (!rec.record(t, y.data(), yp.data()) || span <= 0)
+    return done(StageEnd::Done);
+
+  // The integrator steps freely up to the stop time or the next time
+  // event; output times it steps over are interpolated from the last
+  // step's polynomial (computed variables are evaluated there by the
+  // outputs function). A stop time per output would cost steps and
+  // Jacobian refreshes (docs/runtime.md).
+  double nextEvent = 0; // the time event the integrator stops at (or later)
+  auto aimAtNextEvent = [&]() {
+    nextEvent = events.nextTimeEvent(t, ida.y(), ida.yp());
+    auto ok = ida.setStopTime(std::min(s_.stop, nextEvent));
+    if (!ok)
+      res_.failure = describeSolverError(t, ok.error());
+    return bool(ok);
+  };
+  if (!aimAtNextEvent())
+    return done(StageEnd::Done);
+  int tinySteps = 0; // consecutive steps at round-off level
+  long stepsSinceOutput = 0;
+  std::vector<double> yAt(n), ypAt(n), cond;
+  while (true) {
+    StepStatus st = ida.step(t);
+    if (st.ok() && ida.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
+      ++tinySteps;
+    else
+      tinySteps = 0;
+    if (tinySteps > 20)
+      st = StepStatus::failed(FailureKind::StepCollapsed, "step size collapse");
+    if (st.ok() && ++stepsSinceOutput > kMaxStepsPerOutput)
+      st = StepStatus::failed(
+          FailureKind::TooMuchWork,
+          fmt::format("more than {} steps between output times",
+                      kMaxStepsPerOutput));
+    if (!st.ok()) {
+      res_.failure = describeFailure(ev, ida, st, ida.currentTime());
+      return done(StageEnd::Done);
+    }
+    bool recorded = !o_.everyStep || rec.record(t, ida.y(), ida.yp());
+    for (; recorded && k_ <= nOut_ && gridTime(k_) <= t; ++k_) {
+      stepsSinceOutput = 0;
+      double tk = gridTime(k_);
+      if (o_.everyStep)
+        continue;
+      if (tk == t) {
+        recorded = rec.record(t, ida.y(), ida.yp());
+        continue;
+      }
+      auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
+      if (!at) {
+        res_.failure = describeSolverError(tk, at.error());
+        recorded = false;
+        break;
+      }
+      recorded = rec.record(tk, yAt.data(), ypAt.data());
+    }
+    if (!recorded)
+      return done(StageEnd::Done);
+    bool timeEvent = st.kind == StepStatus::StopReached && t >= nextEvent;
+    bool rootEvent = st.kind == StepStatus::Root && events.handlesRoots();
+    if (st.kind == StepStatus::Root && !rootEvent && o_.log) {
+      std::vector<int> found = ida.rootsFound();
+      for (size_t r = 0; r < found.size(); ++r)
+        if (found[r])
+          *o_.log << fmt::format("t = {:.10g}: event condition {} crossed "
+                                 "zero\n",
+                                 t, r + 1);
+    }
+    if (timeEvent || rootEvent) {
+      // The row just before the event (unless a grid row is at t), kept
+      // only when the event changes something.
+      y.assign(ida.y(), ida.y() + n);
+      yp.assign(ida.yp(), ida.yp() + n);
+      double tRoot = t;
+      if (rootEvent)
+        pastTheRoots(ev, ida, t, y, yp);
+      size_t rows = res_.rows.size();
+      if ((rows == 0 || res_.rows.back()[0] != t) &&
+          !rec.record(t, y.data(), yp.data()))
+        return done(StageEnd::Done);
+      EventOutcome out = events.handle(t, y, yp, timeEvent, reinit);
+      if (out == EventOutcome::Unchanged) {
+        res_.rows.resize(rows);
+        t = tRoot; // the integrator goes on from where it stopped
+      } else if (auto end = concluded(out))
+        return done(*end);
+      else if (!rec.record(t, y.data(), yp.data()))
+        return done(StageEnd::Done);
+      if ((timeEvent || out != EventOutcome::Unchanged) && !aimAtNextEvent())
+        return done(StageEnd::Done);
+      stepsSinceOutput = 0;
+    }
+    if (t >= s_.stop || (!o_.everyStep && k_ > nOut_))
+      break;
+    if (m.n_state_sets > 1) {
+      cond = pivotConditions(ev, t, ida.y(), ida.yp());
+      int best = chooseStateSet(cond, ida.set());
+      if (best != ida.set() &&
+          !switchStates(ev, ida, best, t, std::min(s_.stop, t + s_.interval),
+                        cond, res_, o_.log))
+        return done(StageEnd::Done);
+    }
+    progress_.update(t);
+  }
+  // The last row is the stop time's; then the terminal event.
+  if (res_.rows.back()[0] < s_.stop) {
+    auto at = ida.interpolate(s_.stop, yAt.data(), ypAt.data());
+    if (!at) {
+      res_.failure = describeSolverError(s_.stop, at.error());
+      return done(StageEnd::Done);
+    }
+    if (!rec.record(s_.stop, yAt.data(), ypAt.data()))
+      return done(StageEnd::Done);
+  }
+  if (events.terminal(t, ida.y(), ida.yp()))
+    rec.record(t, ida.y(), ida.yp());
+  progress_.finish();
+  return done(StageEnd::Done);
+}
+
 } // namespace
 
 double outputRows(double start, double stop, double interval) {
@@ -392,13 +820,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     return Error{params.error()};
   const RunSettings &s = *settings;
 
-  std::vector<std::string> available;
-  for (int i = 0; i < (m.n_outputs > 0 ? m.n_outputs : m.n); ++i) {
-    const char *name = m.n_outputs > 0
-                           ? m.output_names[i]
-                           : (m.var_names ? m.var_names[i] : nullptr);
-    available.push_back(name ? name : fmt::format("y[{}]", i));
-  }
+  std::vector<std::string> available = availableColumns(m);
   std::vector<int> cols;
   if (o.outputs.empty()) {
     for (size_t i = 0; i < available.size(); ++i)
@@ -414,15 +836,8 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   res.columns.push_back("time");
   for (int c : cols)
     res.columns.push_back(available[c]);
-  ModelEval ev(m, *params);
-  Recorder rec(ev, cols, res);
   res.stats.n = m.n;
-  auto finish = [&](Integrator *ida) -> Expected<SimResult> {
-    if (ida) {
-      ida->addCounters(res.stats);
-      res.stats.sparse = ida->sparse();
-      res.stats.integrator = ida->name();
-    }
+  auto finish = [&]() -> Expected<SimResult> {
     res.stats.wallTime =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0)
             .count();
@@ -431,143 +846,62 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     return res;
   };
 
-  double span = s.stop - s.start;
-  // Output grid start + k * interval, the last point exactly stop.
-  long nOut = !o.times.empty() ? long(o.times.size())
-               : span > 0 ? outputRows(s.start, s.stop, s.interval) - 1
-                          : 0;
-  auto gridTime = [&](long k) {
-    if (!o.times.empty())
-      return o.times[k - 1];
-    return k >= nOut ? s.stop : s.start + double(k) * s.interval;
-  };
-
+  Run run(o, s, res);
   if (m.n == 0) {
-    // Nothing left to integrate (alias elimination and constant folding
-    // solved everything): every output is a closed-form function of time.
-    // SUNDIALS cannot take an empty system (N_VMin of a length-0 vector
-    // reads element 0), so evaluate the outputs at the output times.
-    // Without solver steps, --every-step reports the same grid.
-    const double none = 0; // y and y' of length 0, never read
-    if (rec.record(s.start, &none, &none))
-      for (long k = 1; span > 0 && k <= nOut; ++k)
-        if (!rec.record(gridTime(k), &none, &none))
-          break;
-    return finish(nullptr);
+    run.closedForm(m, *params, cols);
+    return finish();
   }
-
-  // Start with the best-conditioned state set at the start values.
-  int set = 0;
-  std::vector<double> cond =
-      pivotConditions(ev, s.start, m.start_y, m.start_yp);
-  set = chooseStateSet(cond, 0);
-
-  ErrorWeights weights(ev, s.rtol, s.atol);
-  const bool errorTestAlgebraic =
-      o.algebraicErrorTest.value_or(m.algebraic_error_test != 0);
-  double tNext = s.start + (span > 0 ? std::min(s.interval, span) : 1e-6);
-  auto made = makeIntegrator(ev, o.integrator);
-  if (!made)
-    return Error{made.error()};
-  Integrator &ida = **made;
-  // IDA and CVODE need stop > start; a zero-length run still initializes.
-  // The variables computed outside the integrator are error-tested with
-  // the algebraic unknowns (docs/runtime.md, "The error test").
-  if (errorTestAlgebraic && weights.propagates())
-    ida.weighErrors(&weights);
-  auto ok = ida.init(set, s.start, m.start_y, m.start_yp, s.rtol,
-                     weights.atol(), span > 0 ? s.stop : s.start + 1e-6,
-                     errorTestAlgebraic);
-  if (!ok) {
-    // The options were fine; a SUNDIALS call failing from here on is a
-    // numerical failure of this run (status 3), never a command-line error.
-    res.failure = describeSolverError(s.start, ok.error());
-    return finish(&ida);
-  }
-  auto init0 = std::chrono::steady_clock::now();
-  bool initialized = initialize(ev, ida, set, s.start, tNext, res, o.log);
-  res.stats.initTime =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - init0)
-          .count();
-  if (!initialized)
-    return finish(&ida);
-  if (!rec.record(s.start, ida.y(), ida.yp()) || span <= 0)
-    return finish(&ida);
-
-  // The integrator steps freely up to the stop time; output times it steps
-  // over are interpolated from the last step's polynomial (computed
-  // variables are evaluated there by the outputs function). A stop time
-  // per output would cost steps and Jacobian refreshes (docs/runtime.md).
-  long k = 1; // next output time (of the grid, also with --every-step)
-  Progress progress(o.progress, s.start, s.stop);
-  double t = s.start;
-  int tinySteps = 0; // consecutive steps at round-off level
-  long stepsSinceOutput = 0;
-  std::vector<double> yAt(m.n), ypAt(m.n);
-  if (auto target = ida.setStopTime(s.stop); !target) {
-    res.failure = describeSolverError(s.start, target.error());
-    return finish(&ida);
-  }
+  // A variable-structure model runs one stage per mode reached, each with
+  // the model of its mode, the point carried over by name.
+  const ldae_model *model = &m;
+  std::vector<double> p = *params;
+  Carry carry;
   while (true) {
-    StepStatus st = ida.step(t);
-    if (st.ok() && ida.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
-      ++tinySteps;
-    else
-      tinySteps = 0;
-    if (tinySteps > 20)
-      st = StepStatus::failed(FailureKind::StepCollapsed, "step size collapse");
-    if (st.ok() && ++stepsSinceOutput > kMaxStepsPerOutput)
-      st = StepStatus::failed(
-          FailureKind::TooMuchWork,
-          fmt::format("more than {} steps between output times",
-                      kMaxStepsPerOutput));
-    if (!st.ok()) {
-      res.failure = describeFailure(ev, ida, st, ida.currentTime());
+    auto end = run.stage(*model, p, cols, carry);
+    if (!end)
+      return Error{end.error()};
+    if (*end == StageEnd::Done)
+      break;
+    if (!o.modeProvider) {
+      res.failure = fmt::format(
+          "t = {:.10g}: the mode changed ({}) and the run has no model of the "
+          "new mode (no mode provider)",
+          carry.t, carry.mode);
       break;
     }
-    bool recorded = !o.everyStep || rec.record(t, ida.y(), ida.yp());
-    for (; recorded && k <= nOut && gridTime(k) <= t; ++k) {
-      stepsSinceOutput = 0;
-      double tk = gridTime(k);
-      if (o.everyStep)
-        continue;
-      if (tk == t) {
-        recorded = rec.record(t, ida.y(), ida.yp());
-        continue;
-      }
-      auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
-      if (!at) {
-        res.failure = describeSolverError(tk, at.error());
-        recorded = false;
+    auto next = o.modeProvider(carry.modeValues);
+    if (!next) {
+      res.failure = fmt::format("t = {:.10g}: the model of the new mode ({}) "
+                                "cannot be built: {}",
+                                carry.t, carry.mode, next.error());
+      break;
+    }
+    model = *next;
+    auto np = resolveParams(*model, o);
+    std::vector<std::string> names = availableColumns(*model);
+    std::vector<int> nextCols;
+    for (size_t c = 1; c < res.columns.size() && np; ++c) {
+      auto it = std::find(names.begin(), names.end(), res.columns[c]);
+      if (it == names.end()) {
+        np = Error{fmt::format("it does not report '{}'", res.columns[c])};
         break;
       }
-      recorded = rec.record(tk, yAt.data(), ypAt.data());
+      nextCols.push_back(int(it - names.begin()));
     }
-    if (!recorded)
+    if (!np) {
+      res.failure = fmt::format("t = {:.10g}: the model of the new mode ({}) "
+                                "does not fit the run: {}",
+                                carry.t, carry.mode, np.error());
       break;
-    if (st.kind == StepStatus::Root && o.log) {
-      std::vector<int> found = ida.rootsFound();
-      for (size_t r = 0; r < found.size(); ++r)
-        if (found[r])
-          *o.log << fmt::format("t = {:.10g}: event condition {} crossed "
-                                "zero\n",
-                                t, r + 1);
     }
-    if (st.kind == StepStatus::StopReached || t >= s.stop ||
-        (!o.everyStep && k > nOut))
-      break;
-    if (m.n_state_sets > 1) {
-      cond = pivotConditions(ev, t, ida.y(), ida.yp());
-      int best = chooseStateSet(cond, ida.set());
-      if (best != ida.set() &&
-          !switchStates(ev, ida, best, t, std::min(s.stop, t + s.interval),
-                        cond, res, o.log))
-        break;
-    }
-    progress.update(t);
+    p = *np;
+    cols = nextCols;
+    ++res.stats.modeSwitches;
+    if (o.log)
+      *o.log << fmt::format("t = {:.10g}: mode switch ({})\n", carry.t,
+                            carry.mode);
   }
-  progress.finish();
-  return finish(&ida);
+  return finish();
 }
 
 void printStats(const SimStats &st, std::ostream &out) {
@@ -582,11 +916,14 @@ void printStats(const SimStats &st, std::ostream &out) {
       << fmt::format("nonlinear conv. failures    {}\n", st.convergenceFailures)
       << fmt::format("state set switches          {}\n", st.stateSwitches)
       << fmt::format("roots found                 {}\n", st.rootsFound)
+      << fmt::format("events                      {}\n", st.events)
+      << fmt::format("time events                 {}\n", st.timeEvents)
+      << fmt::format("mode switches               {}\n", st.modeSwitches)
+      << fmt::format("jumps                       {}\n", st.jumps)
       << fmt::format("largest drift residual      {:.3g}\n", st.maxDrift);
   if (st.projections > 0)
     out << fmt::format("constraint projections      {}\n", st.projections);
-  out
-      << fmt::format("initialization time         {:.6f} s\n", st.initTime)
+  out << fmt::format("initialization time         {:.6f} s\n", st.initTime)
       << fmt::format("wall time                   {:.6f} s\n", st.wallTime);
 }
 

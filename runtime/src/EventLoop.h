@@ -1,0 +1,111 @@
+// The discrete side of a run (docs/events.md): time events, the event
+// iteration at the initial event, at roots and at time events, the terminal
+// event, chattering and Zeno detection, and the counters of --stats. It
+// changes the discrete values inside ModelEval's parameter vector, which
+// every ABI function (and so the integrator's callbacks) reads; the
+// continuous point is re-initialized through a hook the run loop gives
+// (Simulator.cpp owns the integrator and the initialization).
+#pragma once
+
+#include "ModelEval.h"
+
+#include <deque>
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace ldae::runtime {
+
+/// Makes (t, y, y') consistent with the current discrete values and
+/// restarts the integrator there; `held` are the unknowns whose values are
+/// conditions of the re-initialization (the targets of fired reinits).
+/// Returns false with the failure written into `failure`.
+using Reinitialize = std::function<bool(
+    double t, std::vector<double> &y, std::vector<double> &yp,
+    const std::vector<int> &held, std::string &failure)>;
+
+/// What an event ended in.
+enum class EventOutcome {
+  Unchanged,  ///< a root that changes nothing: no event, no restart
+  Handled,    ///< discrete values changed; the integrator was restarted
+  Terminated, ///< terminate() fired: the run ends here (status 0)
+  ModeChange, ///< a mode value changed: the run needs another model
+  AtRest,     ///< Zeno with vanishing reinit values: held at rest
+  Failed      ///< see message()
+};
+
+class EventLoop {
+public:
+  /// `rtol`: the run's relative tolerance (the scale below which a series
+  /// of events is the solver's noise); `log` may be null.
+  EventLoop(ModelEval &ev, double rtol, std::ostream *log);
+
+  /// Whether the model has a discrete state at all.
+  bool active() const { return nd_ > 0; }
+  /// Whether root j is a relation's zero crossing handled here.
+  bool handlesRoots() const { return active() && m_.root_relation; }
+
+  /// The first time event strictly after t, or +infinity.
+  double nextTimeEvent(double t, const double *y, const double *yp) const;
+
+  /// The initial event at `t` (initial() = 1): event iteration from the
+  /// start point, then initial() = 0. (y, y') in: the initialized point;
+  /// out: the point after the event (the integrator restarted there when
+  /// it moved).
+  EventOutcome initial(double t, std::vector<double> &y,
+                       std::vector<double> &yp, const Reinitialize &reinit);
+  /// An event at t (a root, or a time event when `timeEvent`).
+  EventOutcome handle(double t, std::vector<double> &y, std::vector<double> &yp,
+                      bool timeEvent, const Reinitialize &reinit);
+  /// Goes on with an event iteration that a mode change interrupted, in
+  /// the new mode's model (its discrete values carried over).
+  EventOutcome resume(double t, std::vector<double> &y, std::vector<double> &yp,
+                      const Reinitialize &reinit);
+  /// The terminal event at the end of the run (terminal() = 1, one update).
+  /// True when it changed a discrete value.
+  bool terminal(double t, const double *y, const double *yp);
+
+  /// The discrete values of the mode (ldae_model::mode_discrete order).
+  std::vector<double> modeValues() const;
+  /// The message of Terminated, AtRest and Failed.
+  const std::string &message() const { return message_; }
+
+  long events() const { return events_; }
+  long timeEvents() const { return timeEvents_; }
+  long jumps() const { return jumps_; }
+
+private:
+  bool update(double t, const double *y, const double *yp);
+  EventOutcome iterate(double t, std::vector<double> &y,
+                       std::vector<double> &yp, const Reinitialize &reinit);
+  void settle(int kind, double t, const double *y, const double *yp);
+  void setKind(int kind, double v);
+  bool sampleInstant(int s, double t, const double *y, const double *yp) const;
+  EventOutcome checkAccumulation(double t, std::vector<double> &y,
+                                 const std::vector<double> &fired);
+  bool modeChanged() const;
+  void noteJump(double t, const std::vector<double> &before,
+                const std::vector<double> &after);
+  std::string namesOf(const std::vector<bool> &which) const;
+
+  ModelEval &ev_;
+  const ldae_model &m_;
+  int nd_;
+  double rtol_;
+  std::ostream *log_;
+  std::vector<double> out_; // event_update's output
+  std::string message_;
+  long events_ = 0, timeEvents_ = 0, jumps_ = 0;
+
+  /// Recent events, for chattering and Zeno detection.
+  struct Recent {
+    double t;
+    std::vector<bool> changed;   // discrete values changed by it
+    std::vector<double> reinits; // |value| of each reinit that fired (NaN: not)
+  };
+  std::deque<Recent> recent_;
+  std::vector<double> reinitScale_; // the largest |value| of each reinit seen
+};
+
+} // namespace ldae::runtime
