@@ -1,8 +1,9 @@
 // Consistent initialization along the jump space (see ConsistentInit.h).
 //
 // One Newton step at the iterate (y, y'): with D = diag(nominal) the
-// unknowns are scaled (y = D u), the pencil is (E D, -F_y D), T its jump
-// space, B an orthonormal basis of the allowed directions (T with the fixed
+// unknowns are scaled (y = D u), the pencil is (E D, -F_y D), T the jump
+// space of the model as written (JumpRule.h; with every dummy coordinate),
+// B an orthonormal basis of the allowed directions (T with the held
 // coordinates held; plus the free differential coordinates when initial
 // equations need them). The step solves, in the least-squares minimum-norm
 // sense,
@@ -14,6 +15,7 @@
 // so the start vector moves only along T, by the smallest step in the
 // nominal-scaled norm within T.
 #include "ConsistentInit.h"
+#include "JumpRule.h"
 #include "SparseInit.h"
 #include "numeric/Rank.h"
 #include "numeric/WongSequence.h"
@@ -34,17 +36,18 @@ namespace {
 /// (dense) or as the reciprocal 1-norm condition estimate (sparse).
 constexpr double kIndexOneRankTol = 1e-12;
 
-/// Whether the start data leave the differential values alone: no initial
-/// equations, no fixed algebraic unknown.
-bool startDataAllowIndexOne(const ModelEval &ev, int set) {
-  const ldae_model &m = ev.model();
-  if (m.n_init > 0)
+/// Whether the conditions leave the differential values alone: no initial
+/// equations, no held algebraic unknown.
+bool conditionsAllowIndexOne(const ModelEval &ev, int set,
+                             const InitConditions &c) {
+  if (c.numInitial(ev.model()) > 0)
     return false;
   for (int i = 0; i < ev.n(); ++i)
-    if (!ev.set(set).is_differential[i] && m.fixed && m.fixed[i])
+    if (!ev.set(set).is_differential[i] && c.isHeld(i))
       return false;
   return true;
 }
+
 
 bool isPlainIndexOneDense(const ModelEval &ev, int set, double t,
                           const double *y, const double *yp) {
@@ -140,11 +143,11 @@ std::string noConsistentPoint(const std::string &rows, double best) {
 }
 
 /// The unknowns residual rows `rows` read whose start values are guesses
-/// (not fixed): "; iteration variables 'x' (guess 0, reached 0.816); give
+/// (not held): "; iteration variables 'x' (guess 0, reached 0.816); give
 /// start values near the solution for 'x'", or "" when there are none.
-std::string guessesOf(const ModelEval &ev, int set, const std::vector<int> &rows,
+std::string guessesOf(const ModelEval &ev, int set, const InitConditions &cond,
+                      const std::vector<int> &rows,
                       const std::vector<double> &y0, const VectorXd &y) {
-  const ldae_model &m = ev.model();
   const ldae_state_set &s = ev.set(set);
   std::vector<char> bad(ev.n(), 0);
   for (int r : rows)
@@ -152,7 +155,7 @@ std::string guessesOf(const ModelEval &ev, int set, const std::vector<int> &rows
       bad[r] = 1;
   std::vector<std::string> vars, names;
   for (int c = 0; c < ev.n() && vars.size() < 5; ++c) {
-    if ((m.fixed && m.fixed[c]) || s.is_differential[c])
+    if (cond.isHeld(c) || s.is_differential[c])
       continue;
     bool reads = false;
     for (int q = s.jac_colptr[c]; q < s.jac_colptr[c + 1] && !reads; ++q)
@@ -180,13 +183,39 @@ bool usesSparseInit(const ModelEval &ev) {
   return ev.n() > LDAE_DENSE_THRESHOLD;
 }
 
+InitConditions InitConditions::atStart(const ldae_model &m) {
+  InitConditions c;
+  c.held.assign(m.n, 0);
+  if (m.fixed)
+    for (int i = 0; i < m.n; ++i)
+      c.held[i] = m.fixed[i] != 0;
+  return c;
+}
+
+InitConditions InitConditions::afterEvent(const ldae_model &m,
+                                          const std::vector<int> &held) {
+  InitConditions c;
+  c.held.assign(m.n, 0);
+  for (int i : held)
+    if (i >= 0 && i < m.n)
+      c.held[i] = 1;
+  c.initialEquations = false;
+  return c;
+}
+
 bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
                      const double *yp) {
-  if (!startDataAllowIndexOne(ev, set))
+  return isPlainIndexOne(ev, set, t, y, yp,
+                         InitConditions::atStart(ev.model()));
+}
+
+bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
+                     const double *yp, const InitConditions &c) {
+  if (!conditionsAllowIndexOne(ev, set, c))
     return false;
-  if (usesSparseInit(ev))
-    return isPlainIndexOneSparse(ev, set, t, y, yp);
-  return isPlainIndexOneDense(ev, set, t, y, yp);
+  bool plain = usesSparseInit(ev) ? isPlainIndexOneSparse(ev, set, t, y, yp)
+                                  : isPlainIndexOneDense(ev, set, t, y, yp);
+  return plain && jumpRuleKeepsStates(ev, set, t, y, yp);
 }
 
 InitOutcome initializeIndexOne(const ModelEval &ev, int set, double t,
@@ -207,24 +236,21 @@ struct StepResult {
   double residual = 0; // max scaled residual before the step
   std::vector<int> badRows;
   int jumpDim = 0, index = 0, levels = 0;
+  bool written = false; // T of the model as written
   std::string domainError;
   int domainRow = -1; // residual row of the domain error, if one
 };
 
 class Newton {
 public:
-  Newton(const ModelEval &ev, int set, double t)
-      : ev_(ev), m_(ev.model()), set_(set), t_(t), n_(ev.n()) {
-    D_ = VectorXd::Ones(n_);
-    if (m_.nominal)
-      for (int i = 0; i < n_; ++i)
-        D_(i) = m_.nominal[i];
-  }
+  Newton(const ModelEval &ev, int set, double t, const InitConditions &c)
+      : ev_(ev), m_(ev.model()), c_(c), set_(set), t_(t), n_(ev.n()),
+        D_(nominalScale(ev.model())) {}
 
   /// One Newton step in place. Fills the result's convergence status.
   StepResult step(Mode mode, VectorXd &y, VectorXd &yp) {
     StepResult res;
-    int ni = m_.n_init;
+    int ni = c_.numInitial(m_);
     VectorXd r(n_), g(ni), rt(n_);
     if (int rc = ev_.residual(set_, t_, y.data(), yp.data(), r.data())) {
       res.domainError = rc > 0 ? ev_.describeRow(rc - 1) : "the residual";
@@ -245,15 +271,18 @@ public:
       }
     }
     MatrixXd Es = E * D_.asDiagonal(), Fs = Fy * D_.asDiagonal();
-    int steps = 0;
-    MatrixXd T = numeric::jumpSpace(Es, -Fs, &steps);
-    res.index = steps;
-    int levels = std::max(steps - 1, 0);
+    JumpDirections jd = jumpDirections(m_, set_, E, Fy, D_);
+    const MatrixXd &T = jd.basis;
+    res.index = jd.index;
+    res.written = jd.written;
+    // The set's own hidden constraints (the reduced set is index 1 unless
+    // it is the model as written of a higher index).
+    int levels = std::max(jd.setIndex - 1, 0);
 
-    // Free coordinates: every unknown whose start value is not fixed.
+    // Free coordinates: every unknown whose value is not held.
     std::vector<int> freeIdx, freeDiff;
     for (int i = 0; i < n_; ++i)
-      if (!(m_.fixed && m_.fixed[i])) {
+      if (!c_.isHeld(i)) {
         freeIdx.push_back(i);
         if (ev_.set(set_).is_differential[i])
           freeDiff.push_back(i);
@@ -277,7 +306,8 @@ public:
     } else {
       B = U;
     }
-    res.jumpDim = B.cols();
+    // Dummies are never held: every one stays in B, and is no jump.
+    res.jumpDim = int(B.cols()) - (mode == Mode::Jumps ? jd.dummies : 0);
 
     if (levels > 0) {
       // F_t by a forward difference: the hidden constraints of a
@@ -365,6 +395,7 @@ public:
 private:
   const ModelEval &ev_;
   const ldae_model &m_;
+  const InitConditions &c_;
   int set_;
   double t_;
   int n_;
@@ -377,8 +408,16 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
                                  const std::vector<double> &y0,
                                  const std::vector<double> &yp0,
                                  std::ostream *log) {
+  return initializeAlongJumps(ev, set, t, y0, yp0,
+                              InitConditions::atStart(ev.model()), log);
+}
+
+InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
+                                 const std::vector<double> &y0,
+                                 const std::vector<double> &yp0,
+                                 const InitConditions &c, std::ostream *log) {
   InitOutcome out;
-  Newton newton(ev, set, t);
+  Newton newton(ev, set, t, c);
   int n = ev.n();
   double best = INFINITY;
   StepResult last;
@@ -392,6 +431,7 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
       if (first) {
         out.jumpDim = s.jumpDim;
         out.index = s.index;
+        out.written = s.written;
         first = false;
       }
       if (!s.domainError.empty()) {
@@ -427,35 +467,90 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
   for (size_t i = 0; i < last.badRows.size() && i < 5; ++i)
     rows += (i ? ", " : "") + newton.describe(last.badRows[i], levels);
   out.failure = noConsistentPoint(rows, best) +
-                guessesOf(ev, set, last.badRows, y0, reached);
+                guessesOf(ev, set, c, last.badRows, y0, reached);
   return out;
 }
 
 constexpr int kMaxMovesListed = 20;
+/// The dense re-initialization's size limit (as the simulator's for the
+/// start): n x 2n least squares and Wong sequences at every iterate.
+constexpr int kMaxDenseJumpUnknowns = 10000;
 
-void reportMoves(const ModelEval &ev, const std::vector<double> &before,
-                 const double *after, std::ostream *log) {
-  if (!log)
-    return;
+namespace {
+
+bool movedBeyondRoundOff(const ldae_model &m, int i, double before,
+                         double after) {
+  double nom = m.nominal ? m.nominal[i] : 1.0;
+  return std::fabs(after - before) > 1e-12 * std::max(nom, std::fabs(before));
+}
+
+/// Logs the moves under `header`; returns how many unknowns moved.
+int listMoves(const ModelEval &ev, const std::vector<double> &before,
+              const double *after, std::ostream *log,
+              const std::string &header) {
   const ldae_model &m = ev.model();
   int moved = 0;
   for (int i = 0; i < ev.n(); ++i) {
-    double nom = m.nominal ? m.nominal[i] : 1.0;
-    double d = after[i] - before[i];
-    if (std::fabs(d) <= 1e-12 * std::max(nom, std::fabs(before[i])))
+    if (!movedBeyondRoundOff(m, i, before[i], after[i]))
       continue;
-    if (moved++ == 0)
-      *log << "initialization moved:\n";
+    ++moved;
+    if (!log)
+      continue;
+    if (moved == 1)
+      *log << header << "\n";
     // A large model moves thousands of values; the first ones tell the
     // story, the count tells the rest.
     if (moved <= kMaxMovesListed)
       *log << fmt::format("  '{}' from {:.10g} to {:.10g} (by {:.3g})\n",
-                          ev.varName(i), before[i], after[i], d);
+                          ev.varName(i), before[i], after[i],
+                          after[i] - before[i]);
   }
-  if (moved == 0)
-    *log << "initialization: the start values are consistent\n";
-  else if (moved > kMaxMovesListed)
+  if (log && moved > kMaxMovesListed)
     *log << fmt::format("  ... and {} more\n", moved - kMaxMovesListed);
+  return moved;
+}
+
+} // namespace
+
+void reportMoves(const ModelEval &ev, const std::vector<double> &before,
+                 const double *after, std::ostream *log) {
+  if (log && listMoves(ev, before, after, log, "initialization moved:") == 0)
+    *log << "initialization: the start values are consistent\n";
+}
+
+int countMoves(const ModelEval &ev, const std::vector<double> &before,
+               const double *after) {
+  return listMoves(ev, before, after, nullptr, "");
+}
+
+InitOutcome reinitializeAfterEvent(const ModelEval &ev, int set, double t,
+                                   const std::vector<double> &y,
+                                   const std::vector<double> &yp,
+                                   const std::vector<int> &held,
+                                   std::ostream *log) {
+  InitConditions c = InitConditions::afterEvent(ev.model(), held);
+  InitOutcome out;
+  bool done = false;
+  if (usesSparseInit(ev)) {
+    out = initializeSparse(ev, set, t, y, yp, c);
+    done = out.ok || out.applicable;
+  }
+  if (!done && ev.n() > kMaxDenseJumpUnknowns) {
+    out.failure = fmt::format(
+        "{}; and the re-initialization along the jump space is dense: {} "
+        "unknowns are more than it handles ({})",
+        out.failure, ev.n(), kMaxDenseJumpUnknowns);
+    return out;
+  }
+  if (!done)
+    out = initializeAlongJumps(ev, set, t, y, yp, c, log);
+  if (!out.ok)
+    return out;
+  out.jumped = listMoves(ev, y, out.y.data(), log,
+                         fmt::format("re-initialization at t = {:.10g} "
+                                     "moved:",
+                                     t));
+  return out;
 }
 
 } // namespace ldae::runtime

@@ -1,13 +1,18 @@
 // Consistent initialization by the rule of LANGUAGE.md ("Initial values",
 // seed 002): fixed start values and initial equations are met exactly; the
 // other start values move onto the constraints only along the jump space
-// T(E, F) of the model linearized at the current iterate (E = dF/dy',
-// F = -dF/dy), by Newton steps in that subspace; where no such step exists,
-// the nearest point in the nominal-scaled norm, with a warning.
+// T(E, F) of the model AS WRITTEN linearized at the current iterate
+// (JumpRule.h: from the reduced set's Jacobian through dummy_of /
+// original_row; E = dF/dy', F = -dF/dy when the set is the model as
+// written), by Newton steps in that subspace, dummy derivatives and y'
+// free; where no such step exists, the nearest point in the nominal-scaled
+// norm, with a warning. The same rule re-initializes the state after an
+// event (reinitializeAfterEvent), the reinit targets held.
 //
-// For an index-1 state set (E zero on the algebraic columns, [E_d F_a]
-// nonsingular) T is just the algebraic coordinates; the simulator then lets
-// IDACalcIC do the work and does not call initializeAlongJumps. Above
+// For an index-1 state set whose jump space is its algebraic coordinates
+// (E zero on the algebraic columns, [E_d F_a] nonsingular, no dummy whose
+// constraint ties differential values) the simulator lets IDACalcIC do the
+// work and does not call initializeAlongJumps. Above
 // LDAE_DENSE_THRESHOLD unknowns that test and the index-1 Newton iteration
 // (initializeIndexOne, when IDACalcIC fails) work on the CSC Jacobian with
 // KLU: O(nnz)-ish instead of dense O(n^2) memory and O(n^3) time.
@@ -21,6 +26,25 @@
 
 namespace ldae::runtime {
 
+/// What the (re-)initialization holds: the unknowns whose values are
+/// conditions (fixed start values at the start, the targets of fired
+/// reinits after an event) and whether the initial equations apply (only
+/// at the start).
+struct InitConditions {
+  std::vector<char> held; ///< size n
+  bool initialEquations = true;
+
+  /// The start: fixed start values and initial equations.
+  static InitConditions atStart(const ldae_model &m);
+  /// After an event: the unknowns `held` (indices), no initial equations.
+  static InitConditions afterEvent(const ldae_model &m,
+                                   const std::vector<int> &held);
+  bool isHeld(int i) const { return held[i] != 0; }
+  int numInitial(const ldae_model &m) const {
+    return initialEquations ? m.n_init : 0;
+  }
+};
+
 /// Whether state set `set` at (t, y, y') has the plain index-1 structure
 /// and the start data leave the differential values alone (no initial
 /// equations, no fixed algebraic unknown), so IDACalcIC(IDA_YA_YDP_INIT)
@@ -31,6 +55,8 @@ namespace ldae::runtime {
 /// below it with a dense rank-revealing LU.
 bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
                      const double *yp);
+bool isPlainIndexOne(const ModelEval &ev, int set, double t, const double *y,
+                     const double *yp, const InitConditions &c);
 
 /// Whether isPlainIndexOne and initialization reports work sparsely (KLU)
 /// for this model: n > LDAE_DENSE_THRESHOLD.
@@ -53,6 +79,9 @@ struct InitOutcome {
                  ///< (fixed ones not counted)
   int kept = 0;  ///< sparse path: differential values kept at their start
   int projected = 0; ///< sparse path: in minimum-norm blocks
+  bool written = false; ///< dense path: T of the model as written was used
+  int jumped = 0; ///< unknowns (not derivatives) that moved (reinitialize-
+                  ///< AfterEvent; beyond round-off, as reportMoves)
 };
 
 /// For a state set with the plain index-1 structure: Newton iteration on
@@ -71,9 +100,32 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
                                  const std::vector<double> &y0,
                                  const std::vector<double> &yp0,
                                  std::ostream *log);
+InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
+                                 const std::vector<double> &y0,
+                                 const std::vector<double> &yp0,
+                                 const InitConditions &c, std::ostream *log);
+
+/// The re-initialization after an event (the run loop calls it once the
+/// discrete values and reinits are applied): (y, y'), the state just before
+/// the event with the reinit values written into y, jumps onto the
+/// consistent set of the current discrete values along T of the model as
+/// written, the unknowns `held` (the targets of fired reinits) kept; where
+/// holding them leaves no step along T, the nearest point with a warning.
+/// Sparse (KLU) for a large set whose jump space is its algebraic
+/// coordinates. Every move is logged ("re-initialization at t = 1 moved:
+/// 'v2' from 1 to 4"); `jumped` counts the unknowns that moved.
+InitOutcome reinitializeAfterEvent(const ModelEval &ev, int set, double t,
+                                   const std::vector<double> &y,
+                                   const std::vector<double> &yp,
+                                   const std::vector<int> &held,
+                                   std::ostream *log);
 
 /// Logs every unknown whose value differs between `before` and `after`.
 void reportMoves(const ModelEval &ev, const std::vector<double> &before,
                  const double *after, std::ostream *log);
+
+/// The unknowns whose values differ beyond round-off (reportMoves' test).
+int countMoves(const ModelEval &ev, const std::vector<double> &before,
+               const double *after);
 
 } // namespace ldae::runtime

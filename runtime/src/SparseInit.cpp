@@ -1,6 +1,7 @@
 // Sparse initialization of index-1 models with initial equations or fixed
 // algebraic values (see SparseInit.h).
 #include "SparseInit.h"
+#include "JumpRule.h"
 
 #include "graph/Matching.h"
 #include "graph/Scc.h"
@@ -24,7 +25,8 @@ enum class RowKind { Residual, Initial, Fixed, Keep };
 /// differential unknown; rows F, G, fixed, keep.
 class InitLayout {
 public:
-  InitLayout(const ModelEval &ev, int set) : ev_(ev), n_(ev.n()) {
+  InitLayout(const ModelEval &ev, int set, const InitConditions &c)
+      : ev_(ev), n_(ev.n()) {
     const ldae_model &m = ev.model();
     const int *diff = ev.set(set).is_differential;
     xCol_.assign(n_, -1);
@@ -34,14 +36,15 @@ public:
         xVar_.push_back(j);
       }
     for (int j = 0; j < n_; ++j)
-      if (m.fixed && m.fixed[j])
+      if (c.isHeld(j))
         fixedVar_.push_back(j);
-    ni_ = m.n_init;
+    ni_ = c.numInitial(m);
   }
 
   int n() const { return n_; }
   int numCols() const { return n_ + int(xVar_.size()); }
   int firstInitial() const { return n_; }
+  int numInitial() const { return ni_; }
   int firstFixed() const { return n_ + ni_; }
   int firstKeep() const { return firstFixed() + int(fixedVar_.size()); }
   /// The x column of unknown j, or -1 when j is algebraic.
@@ -104,8 +107,9 @@ private:
 class SparseInit {
 public:
   SparseInit(const ModelEval &ev, int set, double t,
-             const std::vector<double> &y0, const std::vector<double> &yp0)
-      : ev_(ev), m_(ev.model()), set_(set), t_(t), L_(ev, set), y0_(y0),
+             const std::vector<double> &y0, const std::vector<double> &yp0,
+             const InitConditions &c)
+      : ev_(ev), m_(ev.model()), set_(set), t_(t), L_(ev, set, c), y0_(y0),
         yp0_(yp0), diff_(ev.set(set).is_differential) {
     D_.assign(ev.n(), 1.0);
     if (m_.nominal)
@@ -117,9 +121,12 @@ public:
     InitOutcome out;
     y_ = y0_;
     yp_ = yp0_;
-    if (!ev_.hasInitJacobianCsc())
+    if (L_.numInitial() > 0 && !ev_.hasInitJacobianCsc())
       return notApplicable("the model gives no sparse Jacobian of its "
                            "initial equations");
+    if (!jumpRuleKeepsStates(ev_, set_, t_, y0_.data(), yp0_.data()))
+      return notApplicable("the jump directions of the model as written "
+                           "move differential values");
     if (!evaluate(out))
       return out;
     if (!structure(out))
@@ -185,7 +192,7 @@ private:
   /// F, G and their Jacobians at the current iterate; false with the
   /// domain error in `out`.
   bool evaluate(InitOutcome &out) {
-    int n = ev_.n(), ni = m_.n_init;
+    int n = ev_.n(), ni = L_.numInitial();
     r_.assign(n, 0.0);
     g_.assign(ni, 0.0);
     int rc = ev_.residual(set_, t_, y_.data(), yp_.data(), r_.data());
@@ -204,7 +211,7 @@ private:
     // Hand-written models without initial equations may leave the init
     // functions NULL.
     rc = ni > 0 ? ev_.initResidual(t_, y_.data(), yp_.data(), g_.data()) : 0;
-    if (rc == 0)
+    if (rc == 0 && ni > 0)
       rc = ev_.initJacobianCsc(t_, y_.data(), yp_.data(), gy_, gyp_);
     if (rc) {
       out.failure = fmt::format(
@@ -239,7 +246,7 @@ private:
       };
       for (int q = Fy_.colptr[j]; q < Fy_.colptr[j + 1]; ++q)
         entry(Fy_.rowind[q], Fy_.values[q], E_.values[q]);
-      if (m_.n_init > 0)
+      if (L_.numInitial() > 0)
         for (int q = m_.init_jac_colptr[j]; q < m_.init_jac_colptr[j + 1];
              ++q)
           entry(L_.firstInitial() + m_.init_jac_rowind[q], gy_[q], gyp_[q]);
@@ -395,7 +402,7 @@ private:
     b_.assign(cols, 0.0);
     for (int i = 0; i < ev_.n(); ++i)
       b_[i] = -r_[i];
-    for (int i = 0; i < m_.n_init; ++i)
+    for (int i = 0; i < L_.numInitial(); ++i)
       b_[L_.firstInitial() + i] = -g_[i];
     int row = L_.firstFixed();
     for (int j : L_.fixedVars())
@@ -558,7 +565,15 @@ private:
 InitOutcome initializeSparse(const ModelEval &ev, int set, double t,
                              const std::vector<double> &y0,
                              const std::vector<double> &yp0) {
-  return SparseInit(ev, set, t, y0, yp0).run();
+  return initializeSparse(ev, set, t, y0, yp0,
+                          InitConditions::atStart(ev.model()));
+}
+
+InitOutcome initializeSparse(const ModelEval &ev, int set, double t,
+                             const std::vector<double> &y0,
+                             const std::vector<double> &yp0,
+                             const InitConditions &c) {
+  return SparseInit(ev, set, t, y0, yp0, c).run();
 }
 
 } // namespace ldae::runtime

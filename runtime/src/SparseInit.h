@@ -6,7 +6,8 @@
 // y_j when algebraic) and, for differential j, x_j = y_j. The rows are the
 // residuals F, the initial equations G, one row y_j = start_j per fixed
 // unknown, and "keep the start value" rows x_j = start_j for the
-// differential values the other rows leave free. Which ones are free is
+// differential values the other rows leave free (at an event: the reinit
+// targets instead of the fixed values, no G). Which ones are free is
 // decided structurally: a maximum matching of the rows over the v columns
 // first, extended over the x columns (so as few differential values move as
 // the conditions allow, ties broken by index); every x column left
@@ -34,5 +35,13 @@ namespace ldae::runtime {
 InitOutcome initializeSparse(const ModelEval &ev, int set, double t,
                              const std::vector<double> &y0,
                              const std::vector<double> &yp0);
+/// The same with conditions other than the start's (an event's reinit
+/// targets held, no initial equations). Not applicable either where the
+/// jump rule moves differential values (T of the model as written is not
+/// the set's algebraic coordinates: JumpRule.h).
+InitOutcome initializeSparse(const ModelEval &ev, int set, double t,
+                             const std::vector<double> &y0,
+                             const std::vector<double> &yp0,
+                             const InitConditions &c);
 
 } // namespace ldae::runtime
