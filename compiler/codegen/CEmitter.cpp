@@ -403,6 +403,66 @@ void printArray(std::ostream &os, const std::string &type,
   os << "\n};\n";
 }
 
+/// The tables of the events block (ABI 6) before the model struct; returns
+/// the block's initializers, in the order of ldae_model. A table whose
+/// count is 0 is NULL, as ModelTables makes it.
+std::string printEventTables(std::ostream &os, const CodePlan &plan) {
+  const EventPlan &ev = plan.events;
+  const std::string &s = plan.symbolName;
+  std::ostringstream init;
+  auto table = [&](const std::string &type, const std::string &field,
+                   const auto &values, auto format) {
+    if (values.empty())
+      return std::string("0");
+    printArray(os, type, s + "_" + field, values, format);
+    return s + "_" + field;
+  };
+  auto str = [](const std::string &v) { return quote(v); };
+  auto dbl = [](double v) { return number(v); };
+  auto integer = [](int v) { return std::to_string(v); };
+  auto fnRef = [&](int i) {
+    return i < 0 ? std::string("0") : functionSymbol(plan, plan.functions[i]);
+  };
+  // Per state set rows: a table of pointers to one array per row.
+  auto rows = [&](const std::string &field,
+                  const std::vector<std::vector<int>> &t) {
+    if (t.empty())
+      return std::string("0");
+    std::vector<std::string> names;
+    for (size_t i = 0; i < t.size(); ++i) {
+      names.push_back(s + "_" + field + std::to_string(i));
+      printArray(os, "int", names.back(), t[i], integer);
+    }
+    printArray(os, "int *const", s + "_" + field, names,
+               [](const std::string &v) { return v; });
+    return s + "_" + field;
+  };
+  init << "  " << ev.numDiscrete() << ", "
+       << table("char *const", "discrete_names", ev.discreteNames, str) << ", "
+       << table("double", "discrete_start", ev.discreteStart, dbl) << ", "
+       << table("int", "discrete_kind", ev.discreteKind, integer) << ", "
+       << table("int", "root_relation", ev.rootRelation, integer) << ",\n  "
+       << ev.reinitTarget.size() << ", "
+       << table("int", "reinit_target", ev.reinitTarget, integer) << ", "
+       << ev.terminateMessage.size() << ", "
+       << table("char *const", "terminate_message", ev.terminateMessage, str)
+       << ", " << fnRef(ev.update) << ",\n  " << ev.thresholdRelation.size()
+       << ", "
+       << table("int", "threshold_relation", ev.thresholdRelation, integer)
+       << ", " << ev.sampleDiscrete.size() << ", "
+       << table("int", "sample_discrete", ev.sampleDiscrete, integer) << ", "
+       << fnRef(ev.timeEvents) << ",\n  " << ev.assertMessage.size() << ", "
+       << table("char *const", "assert_message", ev.assertMessage, str) << ", "
+       << table("int", "assert_level", ev.assertLevel, integer) << ", "
+       << table("char *const", "assert_origin", ev.assertOrigin, str) << ", "
+       << fnRef(ev.asserts) << ",\n  " << ev.modeDiscrete.size() << ", "
+       << table("int", "mode_discrete", ev.modeDiscrete, integer) << ", "
+       << table("double", "mode_values", ev.modeValues, dbl) << ",\n  "
+       << rows("dummy_of", ev.dummyOf) << ", "
+       << rows("original_row", ev.originalRow) << "\n";
+  return init.str();
+}
+
 } // namespace
 
 std::string printC(const CodePlan &plan, bool withMain) {
@@ -460,6 +520,7 @@ std::string printC(const CodePlan &plan, bool withMain) {
     printArray(os, "int", s + "_tested_colptr", plan.testedColptr, integer);
     printArray(os, "int", s + "_tested_rowind", plan.testedRowind, integer);
   }
+  const std::string events = printEventTables(os, plan);
   os << "static const ldae_state_set " << s << "_state_sets[] = {\n";
   for (size_t i = 0; i < plan.stateSets.size(); ++i) {
     const StateSetPlan &sp = plan.stateSets[i];
@@ -502,7 +563,7 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << ", " << plan.testedRowind.size() << ", "
      << (tested ? s + "_tested_colptr" : "0") << ", "
      << (tested ? s + "_tested_rowind" : "0") << ", "
-     << fnRef(plan.testedJacobianCsc) << "\n};\n\n"
+     << fnRef(plan.testedJacobianCsc) << ",\n" << events << "};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
   if (withMain) {

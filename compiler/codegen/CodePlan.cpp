@@ -7,6 +7,7 @@
 
 #include "ir/Differentiate.h"
 #include "ir/Query.h"
+#include "ir/Substitute.h"
 #include "ldae/model.h"
 #include "support/SourceManager.h"
 
@@ -572,6 +573,19 @@ static std::vector<ExprRef> planBindings(const ir::DaeSystem &sys,
       plan.boundStarts.push_back(i);
       values.push_back(b);
     }
+  // The program evaluates bindings over its parameters alone, before the
+  // initial event, where every discrete value (and its pre()) is its start.
+  const std::vector<double> &start = plan.events.discreteStart;
+  if (!start.empty()) {
+    ir::Substitution atStart(*sys.ctx);
+    for (unsigned k = 0; k < start.size(); ++k) {
+      ExprRef value = sys.ctx->constant(start[k]);
+      atStart.set(sys.ctx->param(np + k), value);
+      atStart.set(sys.ctx->param(np + start.size() + k), value);
+    }
+    for (ExprRef &v : values)
+      v = atStart.apply(v);
+  }
   return values;
 }
 
@@ -620,6 +634,14 @@ static void planGeometricSlots(const ir::DaeSystem &sys, CodePlan &plan,
         for (const JacEntry &e : entries)
           b.store(b.lower(e.dy), 0, e.col * m + e.row, e.row);
       });
+}
+
+std::string sourceOrigin(const SourceManager *sources, const SourceLoc &loc,
+                         const char *none) {
+  if (!sources || !loc.valid())
+    return none;
+  return sources->path(loc.file) + ":" + std::to_string(loc.line) + ":" +
+         std::to_string(loc.col);
 }
 
 Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
@@ -673,10 +695,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                                ? sys.model->parameters[i].name
                                : "p" + std::to_string(i);
   auto origin = [&](const SourceLoc &loc, const char *none) {
-    return loc.valid() ? opts.sources->path(loc.file) + ":" +
-                             std::to_string(loc.line) + ":" +
-                             std::to_string(loc.col)
-                       : std::string(none);
+    return sourceOrigin(opts.sources, loc, none);
   };
   if (opts.sources && !sys.residualLocs.empty()) {
     for (const SourceLoc &loc : sys.residualLocs)
@@ -691,7 +710,10 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   plan.explicitOde = sys.explicitOde;
   plan.algebraicErrorTest = sys.index <= 1;
 
-  const unsigned nParams = plan.paramValues.size();
+  if (auto ok = planEventTables(sys, plan.events, opts.sources); !ok)
+    return Error{ok.error()};
+  // Discrete values and their pre() values are read past the parameters.
+  const unsigned nParams = plan.pSize();
   ir::Differentiator diff(*sys.ctx);
   std::string error;
 
@@ -820,6 +842,14 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   plan.drift = valuesFunction("drift", sys.constraints, keys);
   if (sys.linearlyImplicit)
     planGeometricSlots(sys, plan, diff, addFunction);
+  EventFunctionValues events = eventFunctionValues(sys.events);
+  if (!events.update.empty())
+    plan.events.update = valuesFunction("event_update", events.update, keys);
+  if (!events.timeEvents.empty())
+    plan.events.timeEvents =
+        valuesFunction("time_events", events.timeEvents, keys);
+  if (!events.asserts.empty())
+    plan.events.asserts = valuesFunction("asserts", events.asserts, keys);
   if (opts.bindings) {
     std::vector<ExprRef> values = planBindings(sys, plan);
     plan.bind = valuesFunction("bind", values, keys);

@@ -6,6 +6,7 @@
 // error names. See docs/codegen.md for the semantics of every operation.
 #pragma once
 
+#include "codegen/EventPlan.h"
 #include "ir/DaeSystem.h"
 #include "support/Expected.h"
 
@@ -206,6 +207,14 @@ struct CodePlan {
   /// Per parameter: 1 if its value fixed the model's structure at compile
   /// time (directly or through a parameter bound to it).
   std::vector<int> structuralParams;
+
+  EventPlan events;
+
+  /// Entries of the p every function reads: the parameters, then each
+  /// discrete value and each pre() value (ldae_model's events block).
+  size_t pSize() const {
+    return paramValues.size() + 2 * size_t(events.numDiscrete());
+  }
 };
 
 struct PlanOptions {
@@ -226,6 +235,11 @@ struct PlanOptions {
 /// reads a variable that is not in the unknown layout.
 Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                                const PlanOptions &opts = {});
+
+/// "file:line:col" of `loc`, or `none` when it is unknown or there is no
+/// source manager to name its file.
+std::string sourceOrigin(const SourceManager *sources, const SourceLoc &loc,
+                         const char *none);
 
 /// Functions with fewer stores stay straight-line code (small models gain
 /// nothing from loops and read better unrolled).

@@ -27,7 +27,7 @@ public:
 };
 
 /// Bumped when this table or the meaning of a plan changes.
-inline constexpr unsigned kJitBackendVersion = 1;
+inline constexpr unsigned kJitBackendVersion = 2;
 
 /// What the module exports through its one C symbol, kJitEntrySymbol.
 struct JitBackend {

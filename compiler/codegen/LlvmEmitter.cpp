@@ -338,7 +338,7 @@ void setPointerAttributes(const CodePlan &plan, llvm::Function *f,
   for (unsigned i : inputs) {
     f->addParamAttr(i, llvm::Attribute::ReadOnly);
     f->addParamAttr(i, llvm::Attribute::NoCapture);
-    uint64_t size = i == paramsArg ? plan.paramValues.size() : plan.n;
+    uint64_t size = i == paramsArg ? plan.pSize() : plan.n;
     if (size)
       f->addDereferenceableParamAttr(i, size * 8);
   }

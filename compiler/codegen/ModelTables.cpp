@@ -13,6 +13,59 @@ const char *const *ModelTables::names(std::vector<std::string> strings) {
   return pointers_.back().data();
 }
 
+const int *ModelTables::ints(std::vector<int> values) {
+  ints_.push_back(std::move(values));
+  ints_.back().push_back(0); // non-null even when empty
+  return ints_.back().data();
+}
+
+const int *const *ModelTables::rows(
+    const std::vector<std::vector<int>> &table) {
+  if (table.empty())
+    return nullptr;
+  std::vector<const int *> ptrs;
+  for (const std::vector<int> &row : table)
+    ptrs.push_back(ints(row));
+  rowPointers_.push_back(std::move(ptrs));
+  return rowPointers_.back().data();
+}
+
+void ModelTables::setEventTables(const EventPlan &ev) {
+  // A table whose count is 0 is NULL (a model without events has every
+  // pointer of the block NULL).
+  auto intTable = [&](const std::vector<int> &v) {
+    return v.empty() ? nullptr : ints(v);
+  };
+  auto nameTable = [&](const std::vector<std::string> &v) {
+    return v.empty() ? nullptr : names(v);
+  };
+  ldae_model &m = model_;
+  m.n_discrete = int(ev.numDiscrete());
+  m.discrete_names = nameTable(ev.discreteNames);
+  discreteStart_ = ev.discreteStart;
+  m.discrete_start = discreteStart_.empty() ? nullptr : discreteStart_.data();
+  m.discrete_kind = intTable(ev.discreteKind);
+  m.root_relation = intTable(ev.rootRelation);
+  m.n_reinit = int(ev.reinitTarget.size());
+  m.reinit_target = intTable(ev.reinitTarget);
+  m.n_terminate = int(ev.terminateMessage.size());
+  m.terminate_message = nameTable(ev.terminateMessage);
+  m.n_time_thresholds = int(ev.thresholdRelation.size());
+  m.threshold_relation = intTable(ev.thresholdRelation);
+  m.n_samples = int(ev.sampleDiscrete.size());
+  m.sample_discrete = intTable(ev.sampleDiscrete);
+  m.n_asserts = int(ev.assertMessage.size());
+  m.assert_message = nameTable(ev.assertMessage);
+  m.assert_level = intTable(ev.assertLevel);
+  m.assert_origin = nameTable(ev.assertOrigin);
+  m.n_mode = int(ev.modeDiscrete.size());
+  m.mode_discrete = intTable(ev.modeDiscrete);
+  modeValues_ = ev.modeValues;
+  m.mode_values = modeValues_.empty() ? nullptr : modeValues_.data();
+  m.dummy_of = rows(ev.dummyOf);
+  m.original_row = rows(ev.originalRow);
+}
+
 int ModelTables::pattern(const std::vector<int> &colptr,
                          const std::vector<int> &rowind,
                          const int *&colptrOut, const int *&rowindOut) {
@@ -89,6 +142,7 @@ ModelTables::ModelTables(const CodePlan &plan) {
   }
   m.n_state_sets = sets_.size();
   m.state_sets = sets_.data();
+  setEventTables(plan.events);
 }
 
 void ModelTables::setFunctions(const CodePlan &plan,
@@ -115,6 +169,9 @@ void ModelTables::setFunctions(const CodePlan &plan,
   fn(plan.testedJacobianCsc, model_.tested_jacobian_csc);
   fn(plan.constraints, model_.constraints);
   fn(plan.constraintJacobian, model_.constraint_jacobian);
+  fn(plan.events.update, model_.event_update);
+  fn(plan.events.timeEvents, model_.time_events);
+  fn(plan.events.asserts, model_.asserts);
 }
 
 } // namespace ldae::codegen

@@ -33,11 +33,21 @@ private:
               const int *&colptrOut, const int *&rowindOut);
   /// Keeps `strings` alive and returns C pointers to them.
   const char *const *names(std::vector<std::string> strings);
+  /// Keeps `values` alive and returns a pointer to them (non-null even
+  /// when empty).
+  const int *ints(std::vector<int> values);
+  /// Keeps per state set rows alive: a pointer per row, or NULL for an
+  /// empty table.
+  const int *const *rows(const std::vector<std::vector<int>> &table);
+  /// The events block (ABI 6) of the model.
+  void setEventTables(const EventPlan &events);
 
   ldae_model model_{};
   std::vector<std::vector<std::string>> strings_;
   std::vector<std::vector<const char *>> pointers_;
-  std::vector<double> startY_, startYp_, nominal_, params_, testedNominal_;
+  std::vector<double> startY_, startYp_, nominal_, params_, testedNominal_,
+      discreteStart_, modeValues_;
+  std::vector<std::vector<const int *>> rowPointers_;
   std::vector<int> fixed_;
   std::vector<std::vector<int>> ints_; // differential flags, patterns
   std::vector<ldae_state_set> sets_;

@@ -368,4 +368,74 @@ SampleSystem domainErrors() {
   return b.take();
 }
 
+SampleSystem pendulumPencil() {
+  SampleSystem s = pendulum();
+  s.model->name = "pendulum_pencil";
+  s.sys.dummyOf = {{-1, -1, -1, -1, -1, 1, 3}, {-1, -1, -1, -1, -1, 0, 2}};
+  const std::vector<bool> written = {true, true, true, true, true, false,
+                                     false};
+  s.sys.originalRow = {written, written};
+  return s;
+}
+
+ExprRef discreteValue(const ir::DaeSystem &sys, unsigned k) {
+  return sys.ctx->param(sys.parameterValues.size() + k);
+}
+
+ExprRef discretePre(const ir::DaeSystem &sys, unsigned k) {
+  return sys.ctx->param(sys.parameterValues.size() +
+                        sys.events.discrete.size() + k);
+}
+
+SampleSystem bouncingEvents() {
+  Builder b("bouncing_events");
+  auto &c = b.c();
+  using ir::CompareKind;
+  using ir::DiscreteKind;
+  ExprRef g = b.param("g", 9.81), e = b.param("e", 0.8),
+          t0 = b.param("t0", 0.5), ts = b.param("ts", 0.1),
+          ti = b.param("ti", 0.2), hmax = b.param("hmax", 10);
+  ExprRef h = b.state("h", true, 1), v = b.state("v", true, 0);
+  ir::EventSystem &ev = b.sys().events;
+  ev.discrete = {{"h <= 0", DiscreteKind::Relation, 0},
+                 {"when h <= 0", DiscreteKind::When, 0},
+                 {"time >= t0", DiscreteKind::Relation, 0},
+                 {"on", DiscreteKind::Variable, 0},
+                 {"sample(ts, ti)", DiscreteKind::Sample, 0},
+                 {"count", DiscreteKind::Variable, 0},
+                 {"initial()", DiscreteKind::Initial, 1}};
+  auto d = [&](unsigned k) { return discreteValue(b.sys(), k); };
+  auto pre = [&](unsigned k) { return discretePre(b.sys(), k); };
+  ExprRef ground = c.compare(CompareKind::Le, h, c.zero());
+  ExprRef late = c.compare(CompareKind::Ge, c.time(), t0);
+  ExprRef tick = c.logicalAnd(d(4), c.logicalNot(pre(4)));
+  ev.update = {ground, ground, late, late, d(4),
+               c.ifThenElse(tick, c.add(pre(5), c.one()), pre(5)), d(6)};
+  b.sys().roots = {h};
+  ev.rootRelation = {0};
+  ev.reinits = {{1, c.mul(c.neg(e), c.pre(v->var())),
+                 c.logicalAnd(ground, c.logicalNot(pre(1)))}};
+  ev.terminates = {{c.compare(CompareKind::Gt, h, hmax), "too high"}};
+  ev.timeThresholds = {t0};
+  ev.thresholdRelation = {2};
+  ev.samples = {{ts, ti}};
+  ev.sampleDiscrete = {4};
+  ev.asserts = {
+      {c.compare(CompareKind::Ge, h, c.constant(-0.001)), "below ground", 0,
+       {}},
+      {c.compare(CompareKind::Lt, c.call(FuncKind::Abs, v), c.constant(100)),
+       "too fast", 1, {}}};
+  ev.modeDiscrete = {3};
+  ev.modeValues = {0};
+  b.singleSet({c.sub(b.der(h), v),
+               c.add(b.der(v), c.ifThenElse(d(3), g, c.div(g, c.constant(2))))});
+  b.sys().dummyOf = {{-1, -1}};
+  b.sys().originalRow = {{true, true}};
+  b.output("count", d(5));
+  b.output("on", d(3));
+  b.output("energy", c.add(c.mul(g, h), c.div(c.pow(v, c.constant(2)),
+                                              c.constant(2))));
+  return b.take();
+}
+
 } // namespace ldae::codegen::samples

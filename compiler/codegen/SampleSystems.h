@@ -64,4 +64,25 @@ SampleSystem builtins();
 /// Residuals with domain errors at chosen points (see the test).
 SampleSystem domainErrors();
 
+/// pendulum() with the jump rule's pencil: in set A der(y), der(vy) are
+/// the dummies of y, vy, in set B der(x), der(vx) those of x, vx; rows 5
+/// and 6 (the differentiated constraints) are not equations as written.
+SampleSystem pendulumPencil();
+
+/// Every part of the events block over a falling ball (h, v; g = 9.81,
+/// e = 0.8, t0 = 0.5, ts = 0.1, ti = 0.2, hmax = 10). Discrete values:
+///   0 `h <= 0` (relation, root h), 1 its when-condition,
+///   2 `time >= t0` (time relation, threshold t0), 3 `on = time >= t0`
+///   (a mode value: the residual reads `if on then g else g/2`),
+///   4 `sample(ts, ti)`, 5 `count` (+1 on each sample tick), 6 initial().
+/// `when h <= 0 then reinit(v, -e*pre(v))`, `when h > hmax then
+/// terminate("too high")`, assert(h >= -0.001, "below ground") (error),
+/// assert(abs(v) < 100, "too fast") (warning), outputs count, on, energy.
+SampleSystem bouncingEvents();
+
+/// The current value (Parameter(nParams + k)) and the pre() value
+/// (Parameter(nParams + nDiscrete + k)) of discrete value k of `sys`.
+ir::ExprRef discreteValue(const ir::DaeSystem &sys, unsigned k);
+ir::ExprRef discretePre(const ir::DaeSystem &sys, unsigned k);
+
 } // namespace ldae::codegen::samples

@@ -5,6 +5,7 @@
 // Each model also runs cut into tiny chunks to exercise the scratch array.
 #include "TestUtil.h"
 
+#include "codegen/EventPlan.h"
 #include "ir/Evaluate.h"
 
 #include <cmath>
@@ -128,6 +129,10 @@ TEST_P(Backends, InterpreterEqualsReferenceEvaluator) {
     if (interp->model().constraints)
       expect("constraints", sys.constraints);
     expect("init_residual", sys.initialResiduals);
+    EventFunctionValues events = eventFunctionValues(sys.events);
+    expect("event_update", events.update);
+    expect("time_events", events.timeEvents);
+    expect("asserts", events.asserts);
   }
 }
 
@@ -282,6 +287,9 @@ const ModelCase kCases[] = {
      2000},
     {"log_sum100_reduction_chunked", [] { return samples::logSum(100); }, 0.1,
      2.0, 7},
+    {"pendulum_pencil", samples::pendulumPencil, -1.0, 1.0, 2000},
+    {"bouncing_events", samples::bouncingEvents, -1.0, 1.0, 2000},
+    {"bouncing_events_chunked", samples::bouncingEvents, -1.0, 1.0, 2},
 };
 
 INSTANTIATE_TEST_SUITE_P(Models, Backends, ::testing::ValuesIn(kCases),

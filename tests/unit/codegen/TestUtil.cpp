@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 #include <random>
 #include <sstream>
+#include <tuple>
+#include <type_traits>
 
 namespace ldae::codegen::testing {
 
@@ -59,6 +61,15 @@ Evaluation evaluateAll(const ldae_model &m, const Point &pt) {
   if (m.constraint_jacobian)
     add("constraint_jacobian", size_t(m.n_constraints) * m.n,
         [&](double *o) { return m.constraint_jacobian(pt.t, y, p, o); });
+  if (m.event_update)
+    add("event_update", size_t(m.n_discrete) + 2 * m.n_reinit + m.n_terminate,
+        [&](double *o) { return m.event_update(pt.t, y, yp, p, o); });
+  if (m.time_events)
+    add("time_events", size_t(m.n_time_thresholds) + 2 * m.n_samples,
+        [&](double *o) { return m.time_events(pt.t, y, yp, p, o); });
+  if (m.asserts)
+    add("asserts", m.n_asserts,
+        [&](double *o) { return m.asserts(pt.t, y, yp, p, o); });
   return ev;
 }
 
@@ -86,6 +97,66 @@ std::string compareEvaluations(const Evaluation &a, const Evaluation &b,
   }
   return "";
 }
+
+namespace {
+
+/// The tables of the events block (ABI 6): equal, and NULL exactly where
+/// their count is 0.
+std::string compareEventMetadata(const ldae_model &a, const ldae_model &b) {
+  std::ostringstream os;
+  auto check = [&](bool ok, const std::string &what) {
+    if (!ok && os.str().empty())
+      os << "event metadata differs: " << what;
+  };
+  check(a.n_discrete == b.n_discrete && a.n_reinit == b.n_reinit &&
+            a.n_terminate == b.n_terminate &&
+            a.n_time_thresholds == b.n_time_thresholds &&
+            a.n_samples == b.n_samples && a.n_asserts == b.n_asserts &&
+            a.n_mode == b.n_mode,
+        "counts");
+  if (!os.str().empty())
+    return os.str();
+  auto table = [&](const auto *x, const auto *y, int count,
+                   const std::string &what) {
+    check((x == nullptr) == (count == 0) && (y == nullptr) == (count == 0),
+          what + " is NULL where it should not be, or the reverse");
+    for (int i = 0; i < count && x && y; ++i) {
+      if constexpr (std::is_same_v<decltype(x), const char *const *>)
+        check(std::string(x[i]) == y[i], what);
+      else
+        check(x[i] == y[i], what);
+    }
+  };
+  table(a.discrete_names, b.discrete_names, a.n_discrete, "discrete_names");
+  table(a.discrete_start, b.discrete_start, a.n_discrete, "discrete_start");
+  table(a.discrete_kind, b.discrete_kind, a.n_discrete, "discrete_kind");
+  table(a.root_relation, b.root_relation, a.n_discrete ? a.n_roots : 0,
+        "root_relation");
+  table(a.reinit_target, b.reinit_target, a.n_reinit, "reinit_target");
+  table(a.terminate_message, b.terminate_message, a.n_terminate,
+        "terminate_message");
+  table(a.threshold_relation, b.threshold_relation, a.n_time_thresholds,
+        "threshold_relation");
+  table(a.sample_discrete, b.sample_discrete, a.n_samples, "sample_discrete");
+  table(a.assert_message, b.assert_message, a.n_asserts, "assert_message");
+  table(a.assert_level, b.assert_level, a.n_asserts, "assert_level");
+  table(a.assert_origin, b.assert_origin, a.n_asserts, "assert_origin");
+  table(a.mode_discrete, b.mode_discrete, a.n_mode, "mode_discrete");
+  table(a.mode_values, b.mode_values, a.n_mode, "mode_values");
+  check(!a.event_update == !b.event_update && !a.time_events == !b.time_events &&
+            !a.asserts == !b.asserts,
+        "event functions");
+  for (auto [x, y, what] : {std::tuple{a.dummy_of, b.dummy_of, "dummy_of"},
+                            {a.original_row, b.original_row, "original_row"}}) {
+    check(!x == !y, what);
+    for (int s = 0; x && y && s < a.n_state_sets; ++s)
+      for (int i = 0; i < a.n; ++i)
+        check(x[s][i] == y[s][i], what);
+  }
+  return os.str();
+}
+
+} // namespace
 
 std::string compareMetadata(const ldae_model &a, const ldae_model &b) {
   std::ostringstream os;
@@ -139,10 +210,19 @@ std::string compareMetadata(const ldae_model &a, const ldae_model &b) {
   auto same = [](double u, double v) {
     return u == v || (std::isnan(u) && std::isnan(v));
   };
+  if (os.str().empty())
+    os << compareEventMetadata(a, b);
   check(same(a.start_time, b.start_time) && same(a.stop_time, b.stop_time) &&
             same(a.tolerance, b.tolerance) && same(a.interval, b.interval),
         "experiment");
   return os.str();
+}
+
+std::vector<double> parameterVector(const ldae_model &m) {
+  std::vector<double> p(m.param_values, m.param_values + m.n_params);
+  for (int copy = 0; copy < 2; ++copy)
+    p.insert(p.end(), m.discrete_start, m.discrete_start + m.n_discrete);
+  return p;
 }
 
 Point randomPoint(const ldae_model &m, unsigned seed, double lo, double hi) {
@@ -155,7 +235,11 @@ Point randomPoint(const ldae_model &m, unsigned seed, double lo, double hi) {
     pt.y.push_back(d(rng));
     pt.yp.push_back(d(rng));
   }
-  pt.p.assign(m.param_values, m.param_values + m.n_params);
+  pt.p = parameterVector(m);
+  // Discrete values (and pre() values) 0 or 1, so both branches of what
+  // reads them are taken.
+  for (size_t k = m.n_params; k < pt.p.size(); ++k)
+    pt.p[k] = rng() % 2;
   return pt;
 }
 

@@ -34,7 +34,12 @@ std::string compareEvaluations(const Evaluation &a, const Evaluation &b,
 /// Checks sizes, names, patterns and defaults agree.
 std::string compareMetadata(const ldae_model &a, const ldae_model &b);
 
-/// Random point: y, yp uniform in [lo, hi], p the defaults.
+/// The p every function of `m` reads: the parameters' defaults, then the
+/// discrete values and their pre() values at their starts.
+std::vector<double> parameterVector(const ldae_model &m);
+
+/// Random point: y, yp uniform in [lo, hi], p the parameters' defaults
+/// and discrete values 0 or 1.
 Point randomPoint(const ldae_model &m, unsigned seed, double lo, double hi);
 
 /// Runs `command` through the shell; returns its exit status.
