@@ -8,17 +8,20 @@
 
 #include "frontend/Frontend.h"
 #include "codegen/Codegen.h"
+#include "ModeCompiler.h"
 #include "passes/Pipeline.h"
 #include "support/Diagnostics.h"
 #include "Plot.h"
 #include "ResultWriter.h"
 #include "ldae/Simulation.h"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <optional>
 #include <fstream>
 #include <iostream>
 #include <unistd.h>
@@ -121,6 +124,11 @@ static int run(int argc, char **argv) {
   passOpts.printAfter = opts.printAfter;
   passOpts.log = &std::cerr;
   passes::AnalysisResult analysis;
+  // A model whose if-equations may change its structure keeps its flat
+  // form: the run compiles each further mode from it when first reached.
+  std::optional<ir::Model> flat;
+  if (opts.simulate && driver::mayChangeStructure(*model))
+    flat.emplace(*model);
   stageStart = std::chrono::steady_clock::now();
   bool analyzed = passes::runPipeline(*model, passOpts, diags, analysis);
   if (opts.timePasses)
@@ -148,6 +156,15 @@ static int run(int argc, char **argv) {
   else
     cgOpts.jit = opts.jit == "on";
   cgOpts.sources = &sources;
+  if (opts.emit == "c" && !analysis.system->events.modeDiscrete.empty())
+    // Each further mode is compiled when the run reaches it, which a
+    // program without the compiler cannot do.
+    return reportError(diags, DiagId::ErrCodegenFailed,
+                       "a variable-structure model (an if-equation whose "
+                       "branches differ in what they determine) cannot be "
+                       "emitted as C: its other modes are compiled when a "
+                       "run reaches them; simulate it with ldaec",
+                       1);
   if (opts.emit == "llvm" || opts.emit == "c") {
     Expected<std::string> text =
         opts.emit == "llvm"
@@ -161,12 +178,6 @@ static int run(int argc, char **argv) {
     // No action asked: the model checked out; say what it is.
     passes::printAnalysis(analysis, std::cout);
     return 0;
-  }
-  if (!model->whenClauses.empty()) {
-    // Events come with a later stage; say so rather than simulate silently
-    // without them.
-    diags.report(DiagId::WarnWhenNotSimulated, model->whenClauses[0].loc);
-    diags.flush(std::cerr);
   }
   auto compileStart = std::chrono::steady_clock::now();
   Expected<std::unique_ptr<codegen::CompiledModel>> compiled =
@@ -204,6 +215,13 @@ static int run(int argc, char **argv) {
       if (std::string(m.output_names[i]).rfind("der(", 0) != 0)
         simOpts.outputs.push_back(m.output_names[i]);
   }
+  std::optional<driver::ModeCompiler> modes;
+  if (flat && !analysis.system->events.modeDiscrete.empty()) {
+    modes.emplace(*flat, passOpts, cgOpts, diags);
+    simOpts.modeProvider = [&](const std::vector<double> &values) {
+      return modes->model(values);
+    };
+  }
   simOpts.progress = !opts.noProgress && isatty(STDERR_FILENO);
   simOpts.log = &std::cerr;
   Expected<runtime::SimResult> result =
@@ -228,6 +246,9 @@ static int run(int argc, char **argv) {
   }
   if (opts.stats) {
     std::cerr << "compile time: " << compileSeconds << " s\n";
+    if (modes)
+      std::cerr << fmt::format("modes compiled during the run {} ({:.3f} s)\n",
+                               modes->compiled(), modes->seconds());
     std::cerr << codegen::describeBackend((*compiled)->backend()) << "\n";
     runtime::printStats(result->stats, std::cerr);
   }

@@ -34,6 +34,10 @@ struct PipelineOptions {
   /// Only a report is asked for (`--analyze`, or no action): a model that
   /// is not well-posed gets warnings where a run would get errors.
   bool reportOnly = false;
+  /// Variable structure: the values of the discrete values that choose the
+  /// branches of structure-changing if-equations (EventSystem::modeDiscrete
+  /// order) to build the system for; empty: their start values.
+  std::vector<double> modeValues;
   /// Pass names after which the current state is printed to `log`.
   std::vector<std::string> printAfter;
   std::ostream *log = nullptr;
@@ -119,6 +123,20 @@ struct PassTiming {
   double seconds = 0;
 };
 
+/// The "events" pass: the discrete state (docs/events.md).
+struct EventsReport {
+  /// Each discrete value as `name (kind)`: `heat (variable)`,
+  /// `h <= 0 (relation)`.
+  std::vector<std::string> discrete;
+  std::vector<std::string> roots;          // lsd, over the model
+  std::vector<std::string> timeThresholds; // lsd
+  int samples = 0;
+  int reinits = 0;
+  int asserts = 0;
+  /// The discrete values choosing the structure (variable structure).
+  std::vector<std::string> mode;
+};
+
 struct AnalysisResult {
   std::string model;
   int variables = 0; // continuous unknowns of the flat model
@@ -155,6 +173,8 @@ struct AnalysisResult {
   std::string formalIndexNote;
   /// dim R_q^(s) (fibre dimension) for s = 0, 1, ...: the last two equal.
   std::vector<int> formalDimensions;
+  /// The discrete state, when the model has one (the "events" pass).
+  std::optional<EventsReport> events;
   std::vector<PassTiming> timings;
   std::optional<ir::DaeSystem> system;
 };

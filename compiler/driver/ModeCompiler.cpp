@@ -1,0 +1,59 @@
+#include "ModeCompiler.h"
+
+#include <chrono>
+#include <sstream>
+
+#include <fmt/format.h>
+
+namespace ldae::driver {
+
+bool mayChangeStructure(const ir::Model &flat) {
+  for (const ir::Equation &e : flat.equations)
+    if (e.residual->kind() == ir::ExprKind::If)
+      return true;
+  return false;
+}
+
+ModeCompiler::ModeCompiler(const ir::Model &flat,
+                           passes::PipelineOptions passOpts,
+                           codegen::CodegenOptions cgOpts,
+                           DiagnosticEngine &diags)
+    : flat_(flat), passOpts_(std::move(passOpts)), cgOpts_(std::move(cgOpts)),
+      diags_(diags) {
+  // A mode's report is not printed, and its printing of passes would
+  // repeat the first mode's.
+  passOpts_.reportOnly = false;
+  passOpts_.printAfter.clear();
+  passOpts_.timePasses = false;
+}
+
+Expected<const ldae_model *>
+ModeCompiler::model(const std::vector<double> &values) {
+  if (auto it = modes_.find(values); it != modes_.end())
+    return &it->second.code->model();
+  auto t0 = std::chrono::steady_clock::now();
+  Mode mode;
+  mode.model = std::make_unique<ir::Model>(flat_);
+  passes::PipelineOptions opts = passOpts_;
+  opts.modeValues = values;
+  // The diagnostics of this mode alone: a failure says why it has no
+  // system (a structurally singular mode names its equations).
+  size_t before = diags_.diagnostics().size();
+  bool ok = passes::runPipeline(*mode.model, opts, diags_, mode.analysis);
+  std::string text;
+  for (size_t i = before; i < diags_.diagnostics().size(); ++i)
+    text += diags_.render(diags_.diagnostics()[i]);
+  if (!ok || !mode.analysis.system)
+    return Error{fmt::format("the mode cannot be analysed:\n{}", text)};
+  auto code = codegen::compile(*mode.analysis.system, cgOpts_);
+  if (!code)
+    return Error{fmt::format("the mode cannot be compiled: {}", code.error())};
+  mode.code = std::move(*code);
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                            t0)
+                  .count();
+  auto [it, inserted] = modes_.emplace(values, std::move(mode));
+  return &it->second.code->model();
+}
+
+} // namespace ldae::driver

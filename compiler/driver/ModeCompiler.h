@@ -1,0 +1,51 @@
+// Variable-structure models (an ideal switch `if closed then v = 0 else
+// i = 0`): each mode has its own structure, so its own index reduction,
+// causalization and code. The run asks for a mode when an event first
+// reaches it (runtime SimOptions::modeProvider); this compiles it from the
+// flat model through the same pipeline and keeps it for the next time.
+#pragma once
+
+#include "codegen/Codegen.h"
+#include "ir/Model.h"
+#include "passes/Pipeline.h"
+#include "support/Diagnostics.h"
+#include "support/Expected.h"
+
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace ldae::driver {
+
+/// Whether an equation of `flat` is an if-equation on a condition that is
+/// not known at compile time (the frontend merges one into a residual
+/// `if c then r1 else r2`): only then can a mode change the structure.
+bool mayChangeStructure(const ir::Model &flat);
+
+class ModeCompiler {
+public:
+  /// `flat` is copied before the pipeline changes the original.
+  ModeCompiler(const ir::Model &flat, passes::PipelineOptions passOpts,
+               codegen::CodegenOptions cgOpts, DiagnosticEngine &diags);
+
+  /// The compiled model of mode `values`, compiled on the first call.
+  Expected<const ldae_model *> model(const std::vector<double> &values);
+  /// How many modes were compiled, and their total compile time.
+  int compiled() const { return static_cast<int>(modes_.size()); }
+  double seconds() const { return seconds_; }
+
+private:
+  struct Mode {
+    std::unique_ptr<ir::Model> model; // the system points into it
+    passes::AnalysisResult analysis;
+    std::unique_ptr<codegen::CompiledModel> code;
+  };
+  ir::Model flat_;
+  passes::PipelineOptions passOpts_;
+  codegen::CodegenOptions cgOpts_;
+  DiagnosticEngine &diags_;
+  std::map<std::vector<double>, Mode> modes_;
+  double seconds_ = 0;
+};
+
+} // namespace ldae::driver
