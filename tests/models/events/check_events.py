@@ -69,8 +69,19 @@ def read_rows(text):
 
 
 def event_pairs(rows):
-    """(before, after) row pairs of the events: consecutive equal times."""
-    return [(a, b) for a, b in zip(rows, rows[1:]) if a["time"] == b["time"]]
+    """(before, after) rows of the events after the start: the first and
+    the last of consecutive rows at one time (a grid row may fall on an
+    event too)."""
+    pairs = []
+    for i, row in enumerate(rows):
+        if (i + 1 < len(rows) and rows[i + 1]["time"] == row["time"] and
+                (i == 0 or rows[i - 1]["time"] != row["time"]) and
+                row["time"] != rows[0]["time"]):
+            j = i
+            while j + 1 < len(rows) and rows[j + 1]["time"] == row["time"]:
+                j += 1
+            pairs.append((row, rows[j]))
+    return pairs
 
 
 def stat(stderr, name):
@@ -78,6 +89,11 @@ def stat(stderr, name):
     m = re.search(r"^\s*%s\s+([0-9.eE+-]+)" % re.escape(name), stderr,
                   re.M | re.I)
     return float(m.group(1)) if m else None
+
+
+def numbers(text):
+    return [float(x) for x in
+            re.findall(r"(?<![\w.])\d+(?:\.\d*)?(?:[eE][-+]?\d+)?", text)]
 
 
 def bisect(g, a, b):
@@ -197,9 +213,7 @@ def bouncing_ball_zeno(c):
     c.check(status in (0, 3), "past the accumulation point %.4f s: exit "
             "status 0 or 3 (%d)" % (t_inf, status))
     c.check("h <= 0" in err, "the report names the condition h <= 0")
-    times = [float(x) for x in re.findall(r"[0-9]+\.[0-9]+(?:e[+-]?\d+)?",
-                                          err)]
-    c.check(any(abs(t - t_inf) <= 0.01 for t in times),
+    c.check(any(abs(t - t_inf) <= 0.01 for t in numbers(err)),
             "the report gives the accumulation time %.4f to 0.01" % t_inf)
     before = [row for row in rows if row["time"] < t_inf - 0.01]
     c.check(before and before[-1]["time"] >= t_inf - 0.02,
@@ -396,8 +410,15 @@ def piece_value(pieces, t, after):
 
 
 def rectifier(c, model, pieces):
+    # Conducting, the IdealDiode's s is its current (vs - vc) / Ron: in
+    # the error test (the default for an index-1 system) its tolerance,
+    # carried onto c.v by the error weights, is 1/Ron = 1e5 times tighter,
+    # at round-off for 10 V, and IDA fails nearly every step (262,101
+    # steps, 260,945 error-test failures to t = 0.06 at rtol 1e-6, then a
+    # step-size collapse). The check is about the events.
     r = c.run(model, ["--rtol", "1e-10", "--atol", "1e-10", "--outputs",
-                      "c.v,diode.i,diode.v", "--stats"])
+                      "c.v,diode.i,diode.v", "--stats",
+                      "--algebraic-error-test", "off"])
     if not r:
         return
     _, rows, err = r
@@ -551,9 +572,8 @@ def chatter(c):
     c.check("chatter" in err.lower(), "reported as chattering")
     c.check("x < 0" in err or "x > 0" in err, "the report names the "
             "condition (x < 0 or x > 0)")
-    times = [float(x) for x in re.findall(r"\b[0-9]+\.[0-9]+\b", err)]
-    c.check(any(abs(t - 1) <= 1e-3 for t in times), "the report gives the "
-            "time, 1")
+    c.check(any(abs(t - 1) <= 1e-3 for t in numbers(err)), "the report "
+            "gives the time, 1")
     grid = [row for row in rows if row["time"] < 1 - 1e-9]
     c.check(len(grid) >= 100, "the rows so far written: t = 0 .. 0.99 "
             "(%d rows before t = 1)" % len(grid))
@@ -634,12 +654,16 @@ def emit_c(c):
     models = (("bouncing_ball", ["--rtol", "1e-10"]),
               ("hysteresis", ["--rtol", "1e-10"]),
               ("sampled_pi", ["--stop", "2.95", "--rtol", "1e-10"]),
-              ("half_wave_rectifier", ["--rtol", "1e-10"]),
+              ("half_wave_rectifier", ["--rtol", "1e-10",
+                                       "--algebraic-error-test", "off"]),
               ("features", []))
     with tempfile.TemporaryDirectory() as tmp:
         for name, args in models:
             path = os.path.join(HERE, name + ".lsd")
-            exe = em.build(c.ldaec, path, tmp, name)
+            try:
+                exe = em.build(c.ldaec, path, tmp, name)
+            except SystemExit:  # its failure is recorded: the next model
+                continue
             em.same(em.run([exe] + args), em.simulate(c.ldaec, path, args),
                     name, 1e-8)
     c.failures += check_e2e.failures
