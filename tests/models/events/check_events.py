@@ -587,7 +587,8 @@ def chatter(c):
 def features(c):
     crossings = sorted(k + d for k in range(4) for d in (1 / 12, 5 / 12)
                        if k + d < 3.2)
-    r = c.run("features.lsd", ["--outputs", "x,on,n,changes,x0,s,quiet",
+    r = c.run("features.lsd", ["--outputs",
+                               "x,on,n,changes,x0,xEnd,s,quiet",
                                "--stats"])
     if not r:
         return
@@ -604,6 +605,11 @@ def features(c):
                 last.get("n"), last.get("changes")))
     c.check(all(row["x0"] == 7 for row in rows), "x0 = x + 7 from the "
             "initial event on (initial())")
+    ends = [row for row in rows if row["time"] == last.get("time")]
+    c.check(abs(last.get("xEnd", 0) - last.get("x", 1)) <= 1e-12 and
+            all(row["xEnd"] == -1 for row in rows[:len(rows) - len(ends)]),
+            "xEnd = x in the last row (terminal()), -1 before (%s)" %
+            last.get("xEnd"))
     pairs = event_pairs(rows)
     at_events = {a["time"] for a, _ in pairs}
     wrong = []
