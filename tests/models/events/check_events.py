@@ -588,7 +588,7 @@ def features(c):
     crossings = sorted(k + d for k in range(4) for d in (1 / 12, 5 / 12)
                        if k + d < 3.2)
     r = c.run("features.lsd", ["--outputs",
-                               "x,on,n,changes,x0,xEnd,s,quiet",
+                               "x,on,n,changes,x0,xEnd,s,quiet,a,b",
                                "--stats"])
     if not r:
         return
@@ -620,13 +620,18 @@ def features(c):
         past = [x for x in crossings if x < t]
         want = {"on": float(math.sin(2 * math.pi * t) > 0.5),
                 "n": float(sum(1 for x in past if x % 1 < 0.25)),
-                "changes": float(len(past)), "quiet": float(t > 2.6)}
+                "changes": float(len(past)), "quiet": float(t > 2.6),
+                "a": float(t > 1.5), "b": float(t > 1.5)}
         wrong += ["%s at %g: %s (expected %s)" % (k, t, row[k], v)
                   for k, v in want.items() if row[k] != v]
         if abs(row["s"] - max(0.0, t - 2.25)) > 1e-9:
             wrong.append("s at %g: %s" % (t, row["s"]))
-    c.check(not wrong, "on, n, changes, s, quiet at every row between "
-            "events (%s)" % wrong[:4])
+    c.check(not wrong, "on, n, changes, s, quiet, a, b at every row "
+            "between events (%s)" % wrong[:4])
+    ab = [(x["a"], x["b"], y["a"], y["b"]) for x, y in pairs
+          if abs(x["time"] - 1.5) <= 1e-9]
+    c.check(ab and ab[0][:2] == (0, 0) and ab[-1][2:] == (1, 1),
+            "a state event and a time event at 1.5: both fire (%s)" % ab)
     got = sorted(at_events)
     missing = [x for x in crossings + [2.25]
                if min((abs(g - x) for g in got), default=1) > 1e-8]
@@ -642,9 +647,12 @@ def features(c):
     _, rows, err = r
     c.check("x reached the limit" in err, "an error-level assert stops the "
             "run with its message (status 3)")
-    c.check(rows and abs(rows[-1]["time"] - 1) <= 1e-6 and
-            len([row for row in rows if row["time"] < 1]) == 10,
-            "the rows up to the assertion at t = 1 kept")
+    # Asserts are checked at output rows and events (docs/events.md): the
+    # run stops at the first of them past the crossing of x = 1.
+    c.check(rows and 1 - 1e-9 <= rows[-1]["time"] <= 1.1 + 1e-9 and
+            len([row for row in rows if row["time"] < 1 - 1e-9]) == 10,
+            "the rows up to the assertion, x = 1, kept (last %s)" % (
+                rows[-1]["time"] if rows else None))
 
 
 # ---- the other backends ------------------------------------------------------
