@@ -5,6 +5,7 @@
 #include "frontend/Frontend.h"
 
 #include "graph/Matching.h"
+#include "ir/Discrete.h"
 #include "ir/Query.h"
 
 #include <algorithm>
@@ -21,23 +22,22 @@ std::string inComponent(const std::string &component) {
 } // namespace
 
 bool checkBalance(const ir::Model &model, DiagnosticEngine &diags) {
-  // Discrete variables assigned in when-clauses are not unknowns of the
-  // continuous system.
-  std::vector<bool> whenAssigned(model.variables.size(), false);
-  for (const ir::WhenClause &w : model.whenClauses) {
-    for (const ir::Equation &eq : w.equations)
-      for (ir::VarKey k : ir::freeVariables(eq.residual))
-        if (model.variables[k.var].isDiscrete)
-          whenAssigned[k.var] = true;
-  }
+  // Discrete variables (Boolean, Integer, discrete Real, assigned in a
+  // when-clause) are not unknowns of the continuous system, and the
+  // equations of discrete values that define them are not its equations.
+  const std::vector<bool> discrete = ir::discreteVariables(model);
   std::vector<int> unknownOf(model.variables.size(), -1);
   std::vector<ir::VarId> unknowns;
   for (ir::VarId v = 0; v < model.variables.size(); ++v)
-    if (!whenAssigned[v]) {
+    if (!discrete[v]) {
       unknownOf[v] = static_cast<int>(unknowns.size());
       unknowns.push_back(v);
     }
-  size_t numEq = model.equations.size(), numUnknowns = unknowns.size();
+  std::vector<size_t> continuous;
+  for (size_t e = 0; e < model.equations.size(); ++e)
+    if (!ir::isDiscreteEquation(model.equations[e].residual, discrete))
+      continuous.push_back(e);
+  size_t numEq = continuous.size(), numUnknowns = unknowns.size();
   if (numEq == numUnknowns)
     return true;
 
@@ -45,7 +45,8 @@ bool checkBalance(const ir::Model &model, DiagnosticEngine &diags) {
                           static_cast<int>(numUnknowns));
   for (size_t e = 0; e < numEq; ++e) {
     std::vector<int> &row = g.rows[e];
-    for (ir::VarKey k : ir::freeVariables(model.equations[e].residual))
+    for (ir::VarKey k :
+         ir::freeVariables(model.equations[continuous[e]].residual))
       if (unknownOf[k.var] >= 0)
         row.push_back(unknownOf[k.var]);
     std::sort(row.begin(), row.end());
@@ -70,7 +71,7 @@ bool checkBalance(const ir::Model &model, DiagnosticEngine &diags) {
   } else {
     for (size_t e = 0; e < numEq && notes < kMaxNotes; ++e)
       if (matchE[e] < 0) {
-        const ir::Equation &eq = model.equations[e];
+        const ir::Equation &eq = model.equations[continuous[e]];
         DiagnosticEngine::addNote(d, eq.loc, DiagId::NoteSurplusEquation,
                                   {eq.text, inComponent(eq.component)});
         ++notes;

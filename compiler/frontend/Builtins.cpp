@@ -3,6 +3,8 @@
 // and the dispatch to user functions, which Inline.cpp inlines.
 #include "frontend/Flattener.h"
 
+#include "ir/Substitute.h"
+
 #include <cmath>
 
 namespace ldae::frontend {
@@ -109,6 +111,20 @@ Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
   if (!v)
     return std::nullopt;
   return std::vector<Value>{std::move(*v)};
+}
+
+ir::ExprRef Flattener::eventInput(ir::EventInput kind, const std::string &text,
+                                  ir::ExprRef start, ir::ExprRef interval) {
+  if (std::optional<ir::VarId> v = model_->findVariable(text))
+    return ctx().var(*v);
+  ir::Variable v;
+  v.name = text;
+  v.isDiscrete = true;
+  v.isBoolean = true;
+  v.input = kind;
+  v.sampleStart = start;
+  v.sampleInterval = interval;
+  return ctx().var(model_->addVariable(std::move(v)));
 }
 
 ir::ParamId Flattener::homotopyLambda() {
@@ -266,12 +282,62 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
   if (name == "noEvent") {
     if (!argCount(1, 1) || !lowerArgs())
       return std::nullopt;
-    return args[0];
+    return map1Value(args[0],
+                     [&](ir::ExprRef x) { return ir::withNoEvent(c, x); });
   }
   if (name == "smooth") {
+    // smooth(0, e) may jump, so its relations generate events as e's;
+    // from order 1 on it is continuous across them: like noEvent.
+    if (!argCount(2, 2))
+      return std::nullopt;
+    std::optional<int64_t> order = intArg(0);
+    if (!order)
+      return std::nullopt;
+    std::optional<Value> v = lower(*call.args[1].value, scope, env);
+    if (!v || *order < 1)
+      return v;
+    return map1Value(*v, [&](ir::ExprRef x) { return ir::withNoEvent(c, x); });
+  }
+  if (name == "initial" || name == "terminal") {
+    if (!argCount(0, 0))
+      return std::nullopt;
+    return Value::scalar(eventInput(
+        name == "initial" ? ir::EventInput::Initial : ir::EventInput::Terminal,
+        name + "()", nullptr, nullptr));
+  }
+  if (name == "sample") {
     if (!argCount(2, 2) || !lowerArgs())
       return std::nullopt;
-    return args[1];
+    for (size_t i = 0; i < 2; ++i)
+      if (!args[i].isScalar()) {
+        report(DiagId::ErrExpectedScalar,
+               SourceRange{call.args[i].value->loc, call.args[i].value->length},
+               {"argument of 'sample'", describeShape(args[i].shape)});
+        return std::nullopt;
+      }
+    ir::ExprRef start = args[0].scalarExpr(), interval = args[1].scalarExpr();
+    std::string text = "sample(" + ir::printLsd(start, model_.get()) + ", " +
+                       ir::printLsd(interval, model_.get()) + ")";
+    return Value::scalar(
+        eventInput(ir::EventInput::Sample, text, start, interval));
+  }
+  if (name == "edge" || name == "change") {
+    // edge(b) = b and not pre(b); change(v) = v <> pre(v).
+    if (!argCount(1, 1) || !lowerArgs())
+      return std::nullopt;
+    Value r = args[0];
+    for (ir::ExprRef &x : r.elems) {
+      if (x->kind() != ir::ExprKind::Variable || x->order() != 0) {
+        report(DiagId::ErrArgNotVariable, where, {name});
+        return std::nullopt;
+      }
+      ir::ExprRef pre = c.pre(x->var());
+      x = name == "edge"
+              ? c.logicalAnd(c.compare(ir::CompareKind::Ne, x, c.zero()),
+                             c.compare(ir::CompareKind::Eq, pre, c.zero()))
+              : c.compare(ir::CompareKind::Ne, x, pre);
+    }
+    return r;
   }
   if (name == "homotopy") {
     // homotopy(actual, simplified): `actual` in the run; with

@@ -8,18 +8,25 @@
 
 namespace ldae::frontend {
 
-void Flattener::addEquation(EqSink &sink, ir::ExprRef residual,
+void Flattener::addEquation(EqSink &sink, ir::ExprRef lhs, ir::ExprRef rhs,
                             const ast::Equation &eq, const Scope &scope) {
   ir::Equation e;
-  e.residual = residual;
+  e.residual = ctx().sub(lhs, rhs);
   e.loc = eq.loc;
   e.component = scope.inst ? scope.inst->path : "";
   e.origin = sink.origin;
   e.text = eq.text;
-  if (sink.when)
-    sink.when->equations.push_back(std::move(e));
-  else
+  if (!sink.when) {
     sink.out->push_back(std::move(e));
+    return;
+  }
+  // In a when-clause an equation assigns its left side.
+  if (lhs->kind() != ir::ExprKind::Variable || lhs->order() != 0) {
+    report(DiagId::ErrWhenTarget, SourceRange{eq.loc, eq.length}, {});
+    return;
+  }
+  sink.when->equations.push_back(std::move(e));
+  sink.when->targets.push_back(lhs);
 }
 
 void Flattener::flattenInstance(InstNode &node) {
@@ -112,7 +119,7 @@ void Flattener::flattenEquation(const ast::Equation &eq, const Scope &scope,
           return;
         }
         for (size_t i = 0; i < l->elems.size(); ++i)
-          addEquation(sink, ctx().sub(l->elems[i], r.elems[i]), eq, scope);
+          addEquation(sink, l->elems[i], r.elems[i], eq, scope);
       }
       return;
     }
@@ -130,7 +137,7 @@ void Flattener::flattenEquation(const ast::Equation &eq, const Scope &scope,
       return;
     }
     for (size_t i = 0; i < l->elems.size(); ++i)
-      addEquation(sink, ctx().sub(l->elems[i], r->elems[i]), eq, scope);
+      addEquation(sink, l->elems[i], r->elems[i], eq, scope);
     return;
   }
   case ast::EquationKind::For: {
@@ -254,8 +261,8 @@ void Flattener::flattenWhen(const ast::Equation &eq, const Scope &scope,
            {"when", "equations outside when, initial and variable if"});
     return;
   }
-  // `elsewhen c2` fires when c2 does and no earlier condition is true.
-  ir::ExprRef earlier = nullptr;
+  // `elsewhen c2` fires when c2 does and no earlier branch fires (the
+  // events pass gives the branches their priority).
   for (size_t k = 0; k < eq.conds.size(); ++k) {
     const ast::Expr &ce = *eq.conds[k];
     std::optional<Value> c = lower(ce, scope, env);
@@ -266,12 +273,12 @@ void Flattener::flattenWhen(const ast::Equation &eq, const Scope &scope,
              {"when-condition", "a string"});
       return;
     }
+    // A vector of conditions fires when any element becomes true.
     ir::ExprRef cond = ctx().logicalOr(c->elems);
     ir::WhenClause clause;
-    clause.condition =
-        earlier ? ctx().logicalAnd(cond, ctx().logicalNot(earlier)) : cond;
+    clause.condition = cond;
+    clause.elsewhen = k > 0;
     clause.loc = k == 0 ? eq.loc : ce.loc;
-    earlier = earlier ? ctx().logicalOr(earlier, cond) : cond;
     EqSink body;
     body.when = &clause;
     for (const ast::Equation &b : eq.branches[k])
@@ -285,10 +292,27 @@ void Flattener::flattenCallEquation(const ast::Equation &eq, const Scope &scope,
   const ast::Expr &call = *eq.lhs;
   SourceRange where{eq.loc, eq.length};
   const std::string &name = call.text;
-  if (name == "assert")
-    return; // run-time checks are not modelled; the model is unchanged
+  if (name == "assert") {
+    flattenAssert(eq, scope, env, sink);
+    return;
+  }
   if (name == "terminate") {
-    report(DiagId::WarnIgnored, where, {"terminate"});
+    if (!sink.when) {
+      report(DiagId::ErrMisplaced, where, {"terminate", "a when-equation"});
+      return;
+    }
+    if (call.args.size() != 1 || !call.args[0].name.empty()) {
+      report(DiagId::ErrCallArgCount, where,
+             {"terminate", "1", std::to_string(call.args.size())});
+      return;
+    }
+    const ast::Expr &msg = *call.args[0].value;
+    if (msg.kind != ast::ExprKind::String) {
+      report(DiagId::ErrMessageNotLiteral, SourceRange{msg.loc, msg.length},
+             {"terminate"});
+      return;
+    }
+    sink.when->terminates.push_back({msg.text, eq.loc});
     return;
   }
   if (name != "reinit") {
@@ -328,6 +352,61 @@ void Flattener::flattenCallEquation(const ast::Equation &eq, const Scope &scope,
     r.loc = eq.loc;
     sink.when->reinits.push_back(r);
   }
+}
+
+void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
+                              Env *env, EqSink &sink) {
+  const ast::Expr &call = *eq.lhs;
+  SourceRange where{eq.loc, eq.length};
+  if (sink.when || sink.inVariableIf) {
+    report(DiagId::ErrMisplaced, where,
+           {"assert", "equations outside when and variable if"});
+    return;
+  }
+  const ast::Expr *cond = nullptr, *message = nullptr, *level = nullptr;
+  for (size_t i = 0; i < call.args.size(); ++i) {
+    const ast::Arg &a = call.args[i];
+    if (a.name == "condition" || (a.name.empty() && i == 0))
+      cond = a.value.get();
+    else if (a.name == "message" || (a.name.empty() && i == 1))
+      message = a.value.get();
+    else if (a.name == "level" || (a.name.empty() && i == 2))
+      level = a.value.get();
+  }
+  if (!cond || !message || call.args.size() > 3) {
+    report(DiagId::ErrCallArgCount, where,
+           {"assert", "2 to 3", std::to_string(call.args.size())});
+    return;
+  }
+  if (message->kind != ast::ExprKind::String) {
+    report(DiagId::ErrMessageNotLiteral,
+           SourceRange{message->loc, message->length}, {"assert"});
+    return;
+  }
+  ir::Assert a;
+  a.message = message->text;
+  a.loc = eq.loc;
+  if (level) {
+    std::string l = level->kind == ast::ExprKind::Ref ? level->refName() : "";
+    if (l == "AssertionLevel.warning")
+      a.level = 1;
+    else if (l != "AssertionLevel.error") {
+      report(DiagId::ErrAssertLevel, SourceRange{level->loc, level->length},
+             {});
+      return;
+    }
+  }
+  std::optional<Value> c = lower(*cond, scope, env);
+  if (!c)
+    return;
+  if (c->isString || c->elems.empty()) {
+    report(DiagId::ErrExpectedScalar, SourceRange{cond->loc, cond->length},
+           {"condition of 'assert'", "a string"});
+    return;
+  }
+  // An array condition holds where every element does.
+  a.condition = ctx().logicalAnd(c->elems);
+  model_->asserts.push_back(std::move(a));
 }
 
 } // namespace ldae::frontend

@@ -242,6 +242,10 @@ public:
   }
 
   ir::ExprContext &ctx() { return model_->ctx(); }
+  /// The discrete variable standing for initial(), terminal() or a
+  /// sample(start, interval) call (one per distinct call text).
+  ir::ExprRef eventInput(ir::EventInput kind, const std::string &text,
+                         ir::ExprRef start, ir::ExprRef interval);
   ir::Model &model() { return *model_; }
   /// The parameter `homotopy.lambda` (1: the actual model) that every
   /// homotopy() with a simplified model blends by; made on first use.
@@ -298,7 +302,10 @@ private:
                    EqSink &sink);
   void flattenCallEquation(const ast::Equation &eq, const Scope &scope,
                            Env *env, EqSink &sink);
-  void addEquation(EqSink &sink, ir::ExprRef residual, const ast::Equation &eq,
+  void flattenAssert(const ast::Equation &eq, const Scope &scope, Env *env,
+                     EqSink &sink);
+  void addEquation(EqSink &sink, ir::ExprRef lhs, ir::ExprRef rhs,
+                   const ast::Equation &eq,
                    const Scope &scope);
 
   // Connections.cpp

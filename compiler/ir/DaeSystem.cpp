@@ -23,4 +23,40 @@ std::vector<bool> anyDifferential(const DaeSystem &sys) {
   return flags;
 }
 
+void forEachEventExpr(EventSystem &ev,
+                      const std::function<void(ExprRef &)> &f) {
+  for (ExprRef &e : ev.update)
+    f(e);
+  for (ReinitUpdate &r : ev.reinits) {
+    f(r.value);
+    f(r.fired);
+  }
+  for (TerminateUpdate &t : ev.terminates)
+    f(t.fired);
+  for (ExprRef &e : ev.timeThresholds)
+    f(e);
+  for (auto &[start, interval] : ev.samples) {
+    f(start);
+    f(interval);
+  }
+  for (AssertCheck &a : ev.asserts)
+    f(a.condition);
+}
+
+std::vector<ExprRef> eventExprs(const EventSystem &ev) {
+  std::vector<ExprRef> all;
+  forEachEventExpr(const_cast<EventSystem &>(ev),
+                   [&](ExprRef &e) { all.push_back(e); });
+  return all;
+}
+
+bool renumberReinits(EventSystem &ev, const std::vector<int> &newIndex) {
+  for (ReinitUpdate &r : ev.reinits) {
+    if (r.unknown >= newIndex.size() || newIndex[r.unknown] < 0)
+      return false;
+    r.unknown = static_cast<uint32_t>(newIndex[r.unknown]);
+  }
+  return true;
+}
+
 } // namespace ldae::ir

@@ -14,6 +14,7 @@
 
 #include "ir/Model.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -171,6 +172,15 @@ struct DaeSystem {
   std::vector<std::vector<int>> dummyOf;
   std::vector<std::vector<bool>> originalRow;
 };
+
+/// Calls `f` on every expression of the event system (to rewrite it where
+/// a pass rewrites the system's other expressions).
+void forEachEventExpr(EventSystem &ev, const std::function<void(ExprRef &)> &f);
+/// The expressions of the event system (to walk what it reads).
+std::vector<ExprRef> eventExprs(const EventSystem &ev);
+/// Renumbers the reinit targets after unknowns were removed or moved:
+/// newIndex[old] is the new index, -1 for a removed unknown (then false).
+bool renumberReinits(EventSystem &ev, const std::vector<int> &newIndex);
 
 /// Whether slot i of state set `set` is differential (a set without its
 /// own flags uses unknowns[i].differential).

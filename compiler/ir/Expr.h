@@ -24,7 +24,8 @@ enum class ExprKind : uint8_t {
   Pow,       // base ^ exponent; division is a * b^-1
   Call,      // a built-in function, see FuncKind
   If,        // if operand0 then operand1 else operand2
-  Compare,   // operand0 <cmp> operand1, value 1 or 0
+  Compare,   // operand0 <cmp> operand1, value 1 or 0; noEvent() when
+             // written inside noEvent (no event, evaluated directly)
   And,       // n-ary logical and, value 1 or 0
   Or,        // n-ary logical or, value 1 or 0
   Not,       // logical not, value 1 or 0
@@ -68,7 +69,13 @@ public:
   unsigned order() const { return order_; }             // Variable
   VarKey varKey() const { return {index_, order_}; }    // Variable
   FuncKind func() const { return static_cast<FuncKind>(sub_); }
-  CompareKind compare() const { return static_cast<CompareKind>(sub_); }
+  CompareKind compare() const {
+    return static_cast<CompareKind>(sub_ & ~kNoEventBit);
+  }
+  /// Compare: written inside noEvent(), so it generates no event and is
+  /// evaluated directly (a different node from the same relation outside).
+  bool noEvent() const { return (sub_ & kNoEventBit) != 0; }
+  static constexpr uint8_t kNoEventBit = 0x80;
 
   std::span<const ExprRef> operands() const { return {ops_, numOps_}; }
   ExprRef operand(unsigned i) const { return ops_[i]; }

@@ -48,7 +48,8 @@ public:
 
   // Conditionals and logic. Booleans are expressions valued 0 or 1.
   ExprRef ifThenElse(ExprRef cond, ExprRef then, ExprRef otherwise);
-  ExprRef compare(CompareKind c, ExprRef a, ExprRef b);
+  /// `noEvent`: the relation as written inside noEvent() (Expr::noEvent).
+  ExprRef compare(CompareKind c, ExprRef a, ExprRef b, bool noEvent = false);
   ExprRef logicalAnd(std::span<const ExprRef> ops);
   ExprRef logicalAnd(ExprRef a, ExprRef b);
   ExprRef logicalOr(std::span<const ExprRef> ops);

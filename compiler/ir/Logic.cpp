@@ -83,13 +83,15 @@ ExprRef ExprContext::ifThenElse(ExprRef cond, ExprRef then, ExprRef otherwise) {
   return intern(ExprKind::If, 0, 0, 0, 0, ops);
 }
 
-ExprRef ExprContext::compare(CompareKind c, ExprRef a, ExprRef b) {
+ExprRef ExprContext::compare(CompareKind c, ExprRef a, ExprRef b,
+                             bool noEvent) {
   if (a->isConstant() && b->isConstant())
     return constant(applyCompare(c, a->constant(), b->constant()) ? 1 : 0);
   if (a == b && isTotal(a))
     return constant(applyCompare(c, 0, 0) ? 1 : 0);
   ExprRef ops[] = {a, b};
-  return intern(ExprKind::Compare, static_cast<uint8_t>(c), 0, 0, 0, ops);
+  uint8_t sub = static_cast<uint8_t>(c) | (noEvent ? Expr::kNoEventBit : 0);
+  return intern(ExprKind::Compare, sub, 0, 0, 0, ops);
 }
 
 namespace {
@@ -169,7 +171,8 @@ ExprRef ExprContext::logicalNot(ExprRef a) {
   if (a->kind() == ExprKind::Not && a->operand(0)->isBoolean())
     return a->operand(0);
   if (a->kind() == ExprKind::Compare)
-    return compare(negateCompare(a->compare()), a->operand(0), a->operand(1));
+    return compare(negateCompare(a->compare()), a->operand(0), a->operand(1),
+                   a->noEvent());
   ExprRef ops[] = {a};
   return intern(ExprKind::Not, 0, 0, 0, 0, ops);
 }

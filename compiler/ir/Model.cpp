@@ -64,6 +64,21 @@ std::vector<double> Model::parameterValues() const {
   return values;
 }
 
+size_t Model::userParameterCount() const {
+  size_t n = parameters.size();
+  while (n > 0 && parameters[n - 1].discrete)
+    --n;
+  return n;
+}
+
+bool Model::verbatimVariable(VarId v) const {
+  return v < variables.size() && variables[v].input != EventInput::None;
+}
+
+bool Model::verbatimParameter(ParamId p) const {
+  return p < parameters.size() && parameters[p].discrete;
+}
+
 std::string Model::variableName(VarKey key) const {
   std::string name = variableName(key.var);
   for (unsigned k = 0; k < key.order; ++k)

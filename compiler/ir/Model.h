@@ -19,6 +19,12 @@ namespace ldae::ir {
 enum class StateSelect { Never, Avoid, Default, Prefer, Always };
 const char *stateSelectName(StateSelect s); // "never", ... as in lsd
 
+/// A built-in call the frontend keeps as a discrete variable for the events
+/// pass (which turns it into a discrete value of the matching kind). Its
+/// name is the call as written (`initial()`, `sample(0, 0.1)`) and prints
+/// verbatim.
+enum class EventInput : uint8_t { None, Initial, Terminal, Sample };
+
 /// A scalar unknown. Its derivatives are Variable nodes of higher order.
 struct Variable {
   std::string name;      // flat name as the user sees it: `x`, `r1.v`, `m[2].s`
@@ -40,6 +46,8 @@ struct Variable {
   bool isDiscrete = false; // Integer/Boolean variables, changed only at events
   bool isInteger = false;  // declared Integer (printed as such)
   bool isBoolean = false;  // declared Boolean (printed as such)
+  EventInput input = EventInput::None;
+  ExprRef sampleStart = nullptr, sampleInterval = nullptr; // input Sample
 };
 
 /// A parameter or constant: a value fixed for a run.
@@ -58,6 +66,10 @@ struct Parameter {
   /// The value fixed the model's structure at compile time (an array size,
   /// a branch chosen, a subscript): it cannot change without recompiling.
   bool structural = false;
+  /// A value of the discrete state the events pass appended after the
+  /// user's parameters (DaeSystem::events): not overridable, not a
+  /// parameter of the compiled model, never folded as a constant.
+  bool discrete = false;
 };
 
 /// Where an equation came from, for messages and for alias elimination.
@@ -86,12 +98,32 @@ struct Reinit {
   SourceLoc loc;
 };
 
+/// `terminate("message")` inside a when-clause.
+struct Terminate {
+  std::string message;
+  SourceLoc loc;
+};
+
 /// `when condition then ... end when;`: kept on the model for the event stage.
 struct WhenClause {
   ExprRef condition = nullptr; // fires when it turns from 0 to 1
   SourceLoc loc;
+  /// An `elsewhen` branch of the clause before it: it fires only where no
+  /// earlier branch of the same when-equation fires.
+  bool elsewhen = false;
   std::vector<Reinit> reinits;
   std::vector<Equation> equations; // discrete assignments `v = expr`
+  /// The left side of each of `equations` (a Variable node).
+  std::vector<ExprRef> targets;
+  std::vector<Terminate> terminates;
+};
+
+/// `assert(condition, "message", level)` in an equation section.
+struct Assert {
+  ExprRef condition = nullptr;
+  std::string message;
+  int level = 0; // 0 error, 1 warning (AssertionLevel.error / .warning)
+  SourceLoc loc;
 };
 
 /// The `experiment` annotation; unset fields take the driver's defaults.
@@ -114,6 +146,7 @@ public:
   std::vector<Equation> equations;
   std::vector<Equation> initialEquations;
   std::vector<WhenClause> whenClauses;
+  std::vector<Assert> asserts;
   /// The homotopy() calls with a simplified model, by the If node they were
   /// lowered to: (actual, simplified), for printing the flat model.
   std::unordered_map<ExprRef, std::pair<ExprRef, ExprRef>> homotopies;
@@ -125,6 +158,9 @@ public:
   std::optional<ParamId> findParameter(const std::string &name) const;
   /// Current parameter values, indexed by ParamId.
   std::vector<double> parameterValues() const;
+  /// The user's parameters: those before the discrete slots the events
+  /// pass appends.
+  size_t userParameterCount() const;
 
   /// The user's spelling of Variable(key): `x`, `der(x)`, `der(der(x))`.
   std::string variableName(VarKey key) const;
@@ -132,6 +168,8 @@ public:
   std::string variableName(VarId v) const override;
   std::string parameterName(ParamId p) const override;
   const std::pair<ExprRef, ExprRef> *homotopyOf(ExprRef e) const override;
+  bool verbatimVariable(VarId v) const override;
+  bool verbatimParameter(ParamId p) const override;
 
   /// Prints the whole model as lsd (the `--emit flat` format).
   std::string print() const;

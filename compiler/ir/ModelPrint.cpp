@@ -89,20 +89,36 @@ std::string Model::print() const {
     if (homotopies.empty() || p.name != "homotopy.lambda")
       os << "  " << parameterDecl(p) << "\n";
   for (const Variable &v : variables)
-    os << "  " << variableDecl(v) << "\n";
+    if (v.input == EventInput::None)
+      os << "  " << variableDecl(v) << "\n";
 
-  if (!equations.empty() || !whenClauses.empty())
+  if (!equations.empty() || !whenClauses.empty() || !asserts.empty())
     os << "equation\n";
   for (const Equation &eq : equations)
     os << "  " << printEquation(ctx(), eq.residual, this) << ";\n";
-  for (const WhenClause &w : whenClauses) {
-    os << "  when " << printLsd(w.condition, this) << " then\n";
+  for (const Assert &a : asserts)
+    os << "  assert(" << printLsd(a.condition, this) << ", "
+       << printString(a.message)
+       << (a.level ? ", AssertionLevel.warning" : "") << ");\n";
+  for (size_t i = 0; i < whenClauses.size(); ++i) {
+    const WhenClause &w = whenClauses[i];
+    os << (w.elsewhen ? "  elsewhen " : "  when ") << printLsd(w.condition, this)
+       << " then\n";
     for (const Reinit &r : w.reinits)
       os << "    reinit(" << printIdentifier(variableName(r.var)) << ", "
          << printLsd(r.value, this) << ");\n";
-    for (const Equation &eq : w.equations)
-      os << "    " << printEquation(ctx(), eq.residual, this) << ";\n";
-    os << "  end when;\n";
+    for (size_t k = 0; k < w.equations.size(); ++k) {
+      const Equation &eq = w.equations[k];
+      if (k < w.targets.size())
+        os << "    " << printLsd(w.targets[k], this) << " = "
+           << printLsd(ctx().sub(w.targets[k], eq.residual), this) << ";\n";
+      else
+        os << "    " << printEquation(ctx(), eq.residual, this) << ";\n";
+    }
+    for (const Terminate &t : w.terminates)
+      os << "    terminate(" << printString(t.message) << ");\n";
+    if (i + 1 == whenClauses.size() || !whenClauses[i + 1].elsewhen)
+      os << "  end when;\n";
   }
   if (!initialEquations.empty()) {
     os << "initial equation\n";

@@ -119,7 +119,7 @@ private:
     case ExprKind::If:
       return names_ && names_->homotopyOf(e) ? PrecPrimary : PrecIf;
     case ExprKind::Compare:
-      return PrecRel;
+      return e->noEvent() ? PrecPrimary : PrecRel;
     case ExprKind::And:
       return PrecAnd;
     case ExprKind::Or:
@@ -142,7 +142,9 @@ private:
         out_ += printNumber(e->constant());
       return;
     case ExprKind::Parameter:
-      if (names_)
+      if (names_ && names_->verbatimParameter(e->param()))
+        out_ += names_->parameterName(e->param());
+      else if (names_)
         emitName(names_->parameterName(e->param()));
       else
         out_ += "p" + std::to_string(e->param());
@@ -200,11 +202,15 @@ private:
       print(e->operand(2), PrecOr, ctx);
       return;
     case ExprKind::Compare:
+      if (e->noEvent())
+        out_ += "noEvent(";
       print(e->operand(0), PrecAdd, Ctx::Numeric);
       out_ += ' ';
       out_ += compareSymbol(e->compare());
       out_ += ' ';
       print(e->operand(1), PrecAdd, Ctx::Numeric);
+      if (e->noEvent())
+        out_ += ')';
       return;
     case ExprKind::And:
     case ExprKind::Or: {
@@ -224,7 +230,9 @@ private:
   }
 
   void emitVariable(VarId v) {
-    if (names_)
+    if (names_ && names_->verbatimVariable(v))
+      out_ += names_->variableName(v);
+    else if (names_)
       emitName(names_->variableName(v));
     else
       out_ += "v" + std::to_string(v);

@@ -21,6 +21,11 @@ public:
   virtual const std::pair<ExprRef, ExprRef> *homotopyOf(ExprRef) const {
     return nullptr;
   }
+  /// Names printed as they are, not quoted: built-in calls kept as
+  /// variables (`initial()`, `sample(0, 1)`) and the discrete slots of the
+  /// events pass (`pre(heat)`).
+  virtual bool verbatimVariable(VarId) const { return false; }
+  virtual bool verbatimParameter(ParamId) const { return false; }
 };
 
 /// lsd syntax: `der(x)`, `der(der(x))`, `pre(v)`, `time`, names from `names`

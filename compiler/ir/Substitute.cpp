@@ -2,6 +2,7 @@
 // simplifying builders.
 #include "ir/Substitute.h"
 #include "Traverse.h"
+#include "ir/Query.h"
 
 #include <cassert>
 
@@ -26,7 +27,7 @@ ExprRef rebuild(ExprContext &ctx, ExprRef e, std::span<const ExprRef> ops) {
   case ExprKind::If:
     return ctx.ifThenElse(ops[0], ops[1], ops[2]);
   case ExprKind::Compare:
-    return ctx.compare(e->compare(), ops[0], ops[1]);
+    return ctx.compare(e->compare(), ops[0], ops[1], e->noEvent());
   case ExprKind::And:
     return ctx.logicalAnd(ops);
   case ExprKind::Or:
@@ -36,6 +37,17 @@ ExprRef rebuild(ExprContext &ctx, ExprRef e, std::span<const ExprRef> ops) {
   }
   assert(false && "unknown expression kind");
   return e;
+}
+
+ExprRef withNoEvent(ExprContext &ctx, ExprRef e) {
+  // Operands before users: a relation inside a relation is marked first.
+  Substitution marked(ctx);
+  ExprRef roots[] = {e};
+  for (ExprRef n : topologicalOrder(roots))
+    if (n->kind() == ExprKind::Compare && !n->noEvent())
+      marked.set(n, ctx.compare(n->compare(), marked.apply(n->operand(0)),
+                                marked.apply(n->operand(1)), true));
+  return marked.apply(e);
 }
 
 void Substitution::set(ExprRef from, ExprRef to) {

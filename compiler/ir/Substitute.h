@@ -27,6 +27,9 @@ private:
   NodeMap<ExprRef> memo_;
 };
 
+/// `e` with every relation marked noEvent (Expr::noEvent): `noEvent(e)`.
+ExprRef withNoEvent(ExprContext &ctx, ExprRef e);
+
 /// Rebuilds `e` with new operands (same kind, function, comparison...).
 ExprRef rebuild(ExprContext &ctx, ExprRef e, std::span<const ExprRef> ops);
 

@@ -471,6 +471,13 @@ bool Causalizer::rebuild() {
     e = subst.apply(e);
   for (ir::ExprRef &e : next.roots)
     e = subst.apply(e);
+  ir::forEachEventExpr(next.events,
+                       [&](ir::ExprRef &e) { e = subst.apply(e); });
+  std::vector<int> newIndex(n_, -1);
+  for (size_t i = 0; i < keepUnknown.size(); ++i)
+    newIndex[keepUnknown[i]] = static_cast<int>(i);
+  if (!ir::renumberReinits(next.events, newIndex))
+    return false;
   std::unordered_map<uint64_t, int> assignedRow;
   for (const Assignment &a : assignments_)
     assignedRow[code(key(a.unknown))] = a.row;
@@ -486,6 +493,8 @@ bool Causalizer::rebuild() {
   std::vector<ir::ExprRef> all(next.initialResiduals);
   all.insert(all.end(), next.constraints.begin(), next.constraints.end());
   all.insert(all.end(), next.roots.begin(), next.roots.end());
+  for (ir::ExprRef e : ir::eventExprs(next.events))
+    all.push_back(e);
   for (const ir::SystemOutput &o : next.outputs)
     all.push_back(o.value);
   for (const ir::TestedValue &v : next.tested)

@@ -16,6 +16,8 @@
 
 namespace ldae::passes {
 
+struct EventResult;
+
 class PassContext {
 public:
   PassContext(ir::Model &model, DiagnosticEngine &diags,
@@ -26,6 +28,9 @@ public:
   DiagnosticEngine &diags;
   const PipelineOptions &opts;
   AnalysisResult &report;
+  /// The "events" pass's result (it runs first), for the passes that
+  /// build a system by a route other than a typed pass (sga-system).
+  const EventResult *events = nullptr;
   /// Set by a pass that has produced the final system by another route
   /// (sga-check): the passes after it do not run.
   bool finished = false;

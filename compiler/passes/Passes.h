@@ -25,6 +25,7 @@ struct BltOptions {
   bool allowSingular = false;
 };
 
+std::unique_ptr<Pass> createEventsPass();
 std::unique_ptr<Pass> createLinearPencilPass();
 std::unique_ptr<Pass> createAliasEliminationPass();
 std::unique_ptr<Pass> createMatchingPass();

@@ -4,6 +4,8 @@
 // errors.
 #include "passes/Passes.h"
 
+#include "ir/Discrete.h"
+
 #include <chrono>
 #include <cstdlib>
 #include <iomanip>
@@ -56,6 +58,9 @@ void Pass::print(PassContext &ctx, ResultStore &results,
 
 PassPipeline pipelineFor(Method method) {
   PassPipeline p;
+  // Every method sees only the continuous system; the discrete part goes
+  // to the event update (docs/events.md).
+  p.push_back(createEventsPass());
   // Every method reports the formal index of the model as written.
   p.push_back(createFormalIndexPass());
   switch (method) {
@@ -108,9 +113,12 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
                  DiagnosticEngine &diags, AnalysisResult &result) {
   result = AnalysisResult{};
   result.model = model.name;
-  for (const ir::Variable &v : model.variables)
-    result.variables += v.isDiscrete ? 0 : 1;
-  result.equations = static_cast<int>(model.equations.size());
+  // The continuous system's counts (the discrete part is the events').
+  const std::vector<bool> discrete = ir::discreteVariables(model);
+  for (bool d : discrete)
+    result.variables += d ? 0 : 1;
+  for (const ir::Equation &e : model.equations)
+    result.equations += ir::isDiscreteEquation(e.residual, discrete) ? 0 : 1;
 
   PassContext ctx(model, diags, opts, result);
   ResultStore results;

@@ -45,6 +45,48 @@ public:
   }
 };
 
+/// The event part as comments: roots, time events, the update and the
+/// reinits, over the printed names.
+void printEvents(const ir::DaeSystem &sys, ir::Substitution &subst,
+                 const Names &names, std::ostream &out) {
+  const ir::EventSystem &ev = sys.events;
+  if (ev.empty())
+    return;
+  auto lsd = [&](ir::ExprRef e) {
+    return ir::printLsd(subst.apply(e), &names);
+  };
+  out << "  // events:\n";
+  for (size_t j = 0; j < sys.roots.size(); ++j)
+    out << "  //   root " << lsd(sys.roots[j]) << " switches '"
+        << ev.discrete[ev.rootRelation[j]].name << "'\n";
+  for (size_t j = 0; j < ev.timeThresholds.size(); ++j)
+    out << "  //   time event at " << lsd(ev.timeThresholds[j])
+        << " switches '" << ev.discrete[ev.thresholdRelation[j]].name
+        << "'\n";
+  for (size_t j = 0; j < ev.samples.size(); ++j)
+    out << "  //   sample from " << lsd(ev.samples[j].first) << " every "
+        << lsd(ev.samples[j].second) << "\n";
+  for (size_t k = 0; k < ev.update.size(); ++k)
+    out << "  //   update '" << ev.discrete[k].name
+        << "' := " << lsd(ev.update[k]) << "\n";
+  for (const ir::ReinitUpdate &r : ev.reinits)
+    out << "  //   reinit " << sys.unknowns[r.unknown].name << " := "
+        << lsd(r.value) << " where " << lsd(r.fired) << "\n";
+  for (const ir::TerminateUpdate &t : ev.terminates)
+    out << "  //   terminate \"" << t.message << "\" where " << lsd(t.fired)
+        << "\n";
+  for (const ir::AssertCheck &a : ev.asserts)
+    out << "  //   assert " << lsd(a.condition) << " \"" << a.message
+        << "\"" << (a.level ? " (warning)" : "") << "\n";
+  if (!ev.modeDiscrete.empty()) {
+    out << "  //   mode:";
+    for (size_t i = 0; i < ev.modeDiscrete.size(); ++i)
+      out << " '" << ev.discrete[ev.modeDiscrete[i]].name
+          << "' = " << ir::printNumber(ev.modeValues[i]);
+    out << "\n";
+  }
+}
+
 } // namespace
 
 std::string printReduced(const ir::DaeSystem &sys) {
@@ -74,6 +116,20 @@ std::string printReduced(const ir::DaeSystem &sys) {
                                ? sys.parameterValues[p]
                                : 0.0)
         << ";\n";
+  }
+  // The discrete state, frozen between events: parameters of the
+  // continuous system at their start values.
+  const size_t nd = sys.events.discrete.size();
+  if (nd > 0)
+    out << "  // discrete state (frozen between events; pre() values next)\n";
+  for (size_t k = 0; k < 2 * nd; ++k) {
+    size_t p = sys.parameterNames.size() + k;
+    const ir::DiscreteValue &d = sys.events.discrete[k % nd];
+    std::string name = k < nd ? d.name : "pre(" + d.name + ")";
+    names.params.push_back(p < m.parameters.size() ? m.parameters[p].name
+                                                    : name);
+    out << "  parameter Real " << ir::printIdentifier(names.params.back())
+        << " = " << ir::printNumber(d.start) << ";\n";
   }
   // Every unknown is printed as an order-0 variable; a dummy Variable(x, k)
   // gets a fresh id past the model's variables.
@@ -112,6 +168,7 @@ std::string printReduced(const ir::DaeSystem &sys) {
     for (ir::ExprRef r : sys.initialResiduals)
       out << "  0 = " << ir::printLsd(subst.apply(r), &names) << ";\n";
   }
+  printEvents(sys, subst, names, out);
   out << "end " << modelName << "_reduced;\n";
   return out.str();
 }

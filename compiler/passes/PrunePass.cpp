@@ -40,6 +40,15 @@ bool PrunePass::runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt) {
   for (const ir::SystemOutput &o : sys.outputs)
     for (ir::VarKey k : variablesOf(o.value))
       want(layout0.read(k).unknown);
+  // What the events read and the states reinit writes stay: the events
+  // happen whatever the outputs.
+  std::vector<ir::ExprRef> eventReads = ir::eventExprs(sys.events);
+  eventReads.insert(eventReads.end(), sys.roots.begin(), sys.roots.end());
+  for (ir::ExprRef e : eventReads)
+    for (ir::VarKey k : variablesOf(e))
+      want(layout0.read(k).unknown);
+  for (const ir::ReinitUpdate &r : sys.events.reinits)
+    want(static_cast<int>(r.unknown));
   std::vector<graph::BipartiteGraph> reads;
   for (size_t set = 0; set < sys.stateSets.size(); ++set)
     reads.push_back(systemGraph(sys, set, blt.reads[set], false));
@@ -95,7 +104,8 @@ bool PrunePass::runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt) {
   std::erase_if(sys.constraints, [&](ir::ExprRef e) { return !keepsOnly(e); });
   std::erase_if(sys.initialResiduals,
                 [&](ir::ExprRef e) { return !keepsOnly(e); });
-  std::erase_if(sys.roots, [&](ir::ExprRef e) { return !keepsOnly(e); });
+  if (!ir::renumberReinits(sys.events, newIndex))
+    return false;
   ctx.report.prunedUnknowns = static_cast<int>(n - unknowns.size());
   sys.unknowns = std::move(unknowns);
   sys.residualLocs = std::move(locs);

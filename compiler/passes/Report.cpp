@@ -172,6 +172,19 @@ template <typename T> nlohmann::json optionalJson(const std::optional<T> &v) {
 }
 } // namespace
 
+static void printEvents(const EventsReport &e, std::ostream &out) {
+  out << "  discrete values:      " << joined(e.discrete) << "\n";
+  if (!e.roots.empty())
+    out << "  event roots:          " << joined(e.roots) << "\n";
+  if (!e.timeThresholds.empty())
+    out << "  time events:          " << joined(e.timeThresholds) << "\n";
+  if (e.samples || e.reinits || e.asserts)
+    out << "  samples, reinits, asserts: " << e.samples << ", " << e.reinits
+        << ", " << e.asserts << "\n";
+  if (!e.mode.empty())
+    out << "  structure chosen by:  " << joined(e.mode) << "\n";
+}
+
 void printAnalysis(const AnalysisResult &r, std::ostream &out) {
   out << "model " << r.model << "\n";
   out << "  variables:            " << r.variables << "\n";
@@ -186,6 +199,8 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
   } else {
     out << "not computed (" << r.formalIndexNote << ")\n";
   }
+  if (r.events)
+    printEvents(*r.events, out);
   if (r.sga)
     printSga(*r.sga, out);
   if (r.linear)
@@ -254,6 +269,16 @@ nlohmann::json analysisToJson(const AnalysisResult &r) {
   j["structural_index"] = optionalJson(r.structuralIndex);
   j["differentiation_index"] = optionalJson(r.differentiationIndex);
   j["formal_index"] = optionalJson(r.formalIndex);
+  if (r.events)
+    j["events"] = {{"discrete", r.events->discrete},
+                   {"roots", r.events->roots},
+                   {"time_thresholds", r.events->timeThresholds},
+                   {"samples", r.events->samples},
+                   {"reinits", r.events->reinits},
+                   {"asserts", r.events->asserts},
+                   {"mode", r.events->mode}};
+  else
+    j["events"] = nullptr;
   if (r.sga && r.sga->outcome != SgaReport::Outcome::NoSolution)
     j["dof"] = r.sga->dof;
   else

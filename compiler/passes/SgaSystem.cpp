@@ -8,6 +8,7 @@
 // tangency rows where those do not suffice), linear in y'; its
 // constraints are every constraint generation, onto which `sga` projects
 // after each step.
+#include "passes/Events.h"
 #include "passes/Passes.h"
 #include "passes/Results.h"
 #include "passes/Sga.h"
@@ -113,9 +114,10 @@ bool buildSgaSystem(PassContext &pc, const SgaResult &sga, bool project,
   noAliases.eliminated.assign(sga.input.unknownIndex.size(), 0);
   if (!buildOutputs(pc, noAliases, sga.input, subst, sys.outputs))
     return false;
-  sys.parameterValues = m.parameterValues();
-  for (const ir::Parameter &p : m.parameters)
-    sys.parameterNames.push_back(p.name);
+  if (pc.events &&
+      !fillEvents(pc, *pc.events,
+                  [&](ir::ExprRef e) { return subst.apply(e); }, sys))
+    return false;
   pc.report.states = sys.stateSets[0].states;
   pc.report.dof = sga.dof;
   pc.report.systemUnknowns = static_cast<int>(n);

@@ -12,6 +12,8 @@
 // variable (named `der(x)`) so that no Variable node can be read both as a
 // y and as a y' entry. Where such an order is not a dummy, a link residual
 // `der(previous slot) - slot` ties it to its derivative.
+#include "passes/Events.h"
+#include "passes/JumpPencil.h"
 #include "passes/Passes.h"
 #include "passes/Results.h"
 #include "passes/SystemStructure.h"
@@ -33,22 +35,6 @@ struct Slots {
   std::vector<bool> fresh;
 };
 
-void collectRoots(ir::ExprContext &ctx, std::span<const ir::ExprRef> roots,
-                  std::vector<ir::ExprRef> &out, std::set<ir::ExprRef> &seen) {
-  for (ir::ExprRef n : ir::topologicalOrder(roots)) {
-    if (n->kind() != ir::ExprKind::If)
-      continue;
-    ir::ExprRef c = n->operand(0);
-    if (c->kind() != ir::ExprKind::Compare)
-      continue;
-    if (variablesOf(c).empty() && !ir::dependsOnTime(c))
-      continue;
-    ir::ExprRef r = ctx.sub(c->operand(0), c->operand(1));
-    if (seen.insert(r).second)
-      out.push_back(r);
-  }
-}
-
 } // namespace
 
 bool buildOutputs(PassContext &pc, const AliasResult &alias,
@@ -67,6 +53,11 @@ bool buildOutputs(PassContext &pc, const AliasResult &alias,
     const ir::Variable &var = m.variables[v];
     if (aliasValue[v]) {
       outputs.push_back({var.name, subst.apply(aliasValue[v])});
+    } else if (var.isDiscrete) {
+      // A discrete variable is read from its slot of the discrete state.
+      std::optional<ir::ParamId> p = m.findParameter(var.name);
+      if (var.input == ir::EventInput::None && p && m.parameters[*p].discrete)
+        outputs.push_back({var.name, ctx.param(*p)});
     } else if (mr.unknownIndex[v] >= 0) {
       outputs.push_back({var.name, ctx.var(v)});
       int j = mr.unknownIndex[v];
@@ -102,17 +93,18 @@ namespace {
 
 class BuildSystemPass
     : public TypedPass<BuildSystemPass,
-                       Reads<AliasResult, MatchingResult, IndexReduction,
-                             DummyChoices>,
+                       Reads<EventResult, AliasResult, MatchingResult,
+                             IndexReduction, DummyChoices>,
                        Updates<>, Produces<ir::DaeSystem>> {
 public:
   BuildSystemPass() : TypedPass(PassId::BuildSystem) {}
-  bool runOn(PassContext &pc, const AliasResult &alias,
+  bool runOn(PassContext &pc, const EventResult &ev, const AliasResult &alias,
              const MatchingResult &mr, const IndexReduction &red,
              const DummyChoices &dc, ir::DaeSystem &out);
 };
 
-bool BuildSystemPass::runOn(PassContext &pc, const AliasResult &alias,
+bool BuildSystemPass::runOn(PassContext &pc, const EventResult &ev,
+                            const AliasResult &alias,
                             const MatchingResult &mr,
                             const IndexReduction &red, const DummyChoices &dc,
                             ir::DaeSystem &out) {
@@ -253,28 +245,24 @@ bool BuildSystemPass::runOn(PassContext &pc, const AliasResult &alias,
   for (const ir::Equation &e : m.initialEquations)
     sys.initialResiduals.push_back(subst.apply(e.residual));
 
-  std::set<ir::ExprRef> seen;
-  for (const ir::WhenClause &w : m.whenClauses) {
-    ir::ExprRef c = subst.apply(w.condition);
-    if (c->kind() == ir::ExprKind::Compare) {
-      ir::ExprRef r = ctx.sub(c->operand(0), c->operand(1));
-      if (seen.insert(r).second)
-        sys.roots.push_back(r);
-    }
-  }
-  collectRoots(ctx, sys.stateSets[0].residuals, sys.roots, seen);
-
   if (!buildOutputs(pc, alias, mr, subst, sys.outputs))
     return false;
 
-  sys.parameterValues = m.parameterValues();
-  for (const ir::Parameter &p : m.parameters)
-    sys.parameterNames.push_back(p.name);
+  // The event part reads eliminated aliases through their values.
+  ir::Substitution aliasSubst(ctx);
+  for (const Alias &a : alias.aliases)
+    aliasSubst.set(ctx.var(a.var), a.value);
+  if (!fillEvents(
+          pc, ev,
+          [&](ir::ExprRef e) { return subst.apply(aliasSubst.apply(e)); },
+          sys))
+    return false;
 
   pc.report.states = sys.stateSets[0].states;
   pc.report.dummies = pc.report.stateSets[0].dummies;
   pc.report.dof = static_cast<int>(pc.report.states.size());
   pc.report.systemUnknowns = static_cast<int>(n);
+  fillJumpPencil(pc, mr, red, dc, sys);
   out = std::move(sys);
   return true;
 }

@@ -1,0 +1,700 @@
+// Pass "events": discrete variables, relations, when-clauses, reinit,
+// sample, initial(), terminal(), assert out of the continuous system into
+// the discrete state and its event update (Events.h, docs/events.md).
+//
+// Every discrete value is defined by an expression D over the continuous
+// point (Variable nodes, time), pre() values and the *new* values of other
+// discrete values (read as their current Parameter). The update inlines
+// those in dependency order, so it is one expression per value over
+// (t, y, y', pre): what ldae_model::event_update computes.
+#include "passes/Events.h"
+
+#include "passes/Passes.h"
+#include "passes/Results.h"
+
+#include "graph/Matching.h"
+#include "ir/Discrete.h"
+#include "ir/Evaluate.h"
+#include "ir/Query.h"
+#include "ir/Substitute.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+namespace ldae::passes {
+
+namespace {
+
+/// A slot of the discrete state while the pass builds it.
+struct Slot {
+  ir::DiscreteKind kind = ir::DiscreteKind::Variable;
+  std::string name;
+  ir::ExprRef node = nullptr; // Variable: var(v); Relation: the Compare
+  ir::VarId var = 0;          // Variable and the inputs
+  int when = -1;              // When: the clause
+  bool timeRelation = false;
+  ir::ExprRef threshold = nullptr; // time relation: the other side
+  ir::CompareKind timeCompare = ir::CompareKind::Lt; // time <op> threshold
+};
+
+ir::DiscreteKind inputKind(ir::EventInput in) {
+  switch (in) {
+  case ir::EventInput::Initial:
+    return ir::DiscreteKind::Initial;
+  case ir::EventInput::Terminal:
+    return ir::DiscreteKind::Terminal;
+  case ir::EventInput::Sample:
+    return ir::DiscreteKind::Sample;
+  case ir::EventInput::None:
+    break;
+  }
+  return ir::DiscreteKind::Variable;
+}
+
+bool isInput(ir::DiscreteKind k) {
+  return k == ir::DiscreteKind::Initial || k == ir::DiscreteKind::Terminal ||
+         k == ir::DiscreteKind::Sample;
+}
+
+/// `a <c> b` read as `b <c'> a`.
+ir::CompareKind mirrored(ir::CompareKind c) {
+  switch (c) {
+  case ir::CompareKind::Lt:
+    return ir::CompareKind::Gt;
+  case ir::CompareKind::Le:
+    return ir::CompareKind::Ge;
+  case ir::CompareKind::Gt:
+    return ir::CompareKind::Lt;
+  case ir::CompareKind::Ge:
+    return ir::CompareKind::Le;
+  default:
+    return c;
+  }
+}
+
+class EventBuilder {
+public:
+  EventBuilder(PassContext &pc, EventResult &out)
+      : pc_(pc), m_(pc.model), ctx_(m_.ctx()), out_(out) {}
+  bool run();
+
+private:
+  bool partitionEquations();
+  void collectSlots();
+  void addParameters();
+  bool defineVariables(std::vector<ir::ExprRef> &def);
+  ir::ExprRef risen(size_t clause);
+  ir::ExprRef fired(size_t clause);
+  bool buildUpdate();
+  bool buildTimeEvents();
+  void chooseMode();
+  ir::ExprRef cur(size_t k) { return ctx_.param(out_.current(k)); }
+  ir::ExprRef pre(size_t k) { return ctx_.param(out_.pre(k)); }
+  double startValue(ir::ExprRef e);
+
+  PassContext &pc_;
+  ir::Model &m_;
+  ir::ExprContext &ctx_;
+  EventResult &out_;
+  std::vector<bool> discrete_;
+  std::vector<ir::Equation> continuous_, discreteEqs_;
+  std::vector<Slot> slots_;
+  std::map<ir::VarId, size_t> slotOfVar_;
+  std::map<ir::ExprRef, size_t, ir::ExprIdLess> slotOfRelation_;
+  std::vector<size_t> slotOfWhen_;
+  int initialSlot_ = -1;
+  /// The definition of each slot's new value (see the file comment), and
+  /// the substitution that makes definitions: discrete variables read
+  /// their new values, pre() of a continuous variable its value just
+  /// before the event (y), time relations their right limit.
+  std::vector<ir::ExprRef> def_;
+  std::map<size_t, std::string> definedBy_; // slot -> its equation's text
+  std::unique_ptr<ir::Substitution> defSubst_;
+};
+
+bool EventBuilder::partitionEquations() {
+  for (ir::Equation &e : m_.equations)
+    (ir::isDiscreteEquation(e.residual, discrete_) ? discreteEqs_
+                                                   : continuous_)
+        .push_back(e);
+  return true;
+}
+
+void EventBuilder::collectSlots() {
+  // Discrete variables first, by VarId, then the relations in the order
+  // the equations and conditions read them, then one per when-branch.
+  for (ir::VarId v = 0; v < m_.variables.size(); ++v) {
+    if (!discrete_[v])
+      continue;
+    const ir::Variable &var = m_.variables[v];
+    Slot s;
+    s.kind = inputKind(var.input);
+    s.name = var.name;
+    s.node = ctx_.var(v);
+    s.var = v;
+    slotOfVar_[v] = slots_.size();
+    if (s.kind == ir::DiscreteKind::Initial)
+      initialSlot_ = static_cast<int>(slots_.size());
+    slots_.push_back(s);
+  }
+  std::vector<ir::ExprRef> roots;
+  for (const ir::Equation &e : continuous_)
+    roots.push_back(e.residual);
+  for (const ir::Equation &e : discreteEqs_)
+    roots.push_back(e.residual);
+  for (const ir::Equation &e : m_.initialEquations)
+    roots.push_back(e.residual);
+  for (const ir::WhenClause &w : m_.whenClauses)
+    roots.push_back(w.condition);
+  for (ir::ExprRef n : ir::topologicalOrder(roots)) {
+    if (!ir::isEventRelation(n, discrete_) || slotOfRelation_.count(n))
+      continue;
+    Slot s;
+    s.kind = ir::DiscreteKind::Relation;
+    s.name = ir::printLsd(n, &m_);
+    s.node = n;
+    // `time <op> e` with e over parameters and discrete values: a time
+    // event, hit exactly.
+    ir::ExprRef a = n->operand(0), b = n->operand(1);
+    ir::CompareKind c = n->compare();
+    if (b->kind() == ir::ExprKind::Time) {
+      std::swap(a, b);
+      c = mirrored(c);
+    }
+    if (a->kind() == ir::ExprKind::Time && !ir::dependsOnTime(b) &&
+        c != ir::CompareKind::Eq && c != ir::CompareKind::Ne &&
+        !ir::readsContinuous(b, discrete_)) {
+      bool onlyDiscrete = true;
+      for (ir::VarKey k : ir::freeVariables(b))
+        onlyDiscrete = onlyDiscrete && k.order == 0;
+      if (onlyDiscrete) {
+        s.timeRelation = true;
+        s.threshold = b;
+        s.timeCompare = c;
+      }
+    }
+    slotOfRelation_[n] = slots_.size();
+    slots_.push_back(s);
+  }
+  for (size_t i = 0; i < m_.whenClauses.size(); ++i) {
+    Slot s;
+    s.kind = ir::DiscreteKind::When;
+    s.name = "when " + ir::printLsd(m_.whenClauses[i].condition, &m_);
+    s.when = static_cast<int>(i);
+    slotOfWhen_.push_back(slots_.size());
+    slots_.push_back(s);
+  }
+}
+
+double EventBuilder::startValue(ir::ExprRef e) {
+  ir::EvalEnv env = pc_.startEnv();
+  env.time = m_.experiment.startTime.value_or(0.0);
+  Expected<double> v = ir::evaluate(e, env, &m_);
+  return v ? *v : 0.0;
+}
+
+void EventBuilder::addParameters() {
+  out_.base = static_cast<ir::ParamId>(m_.parameters.size());
+  for (const Slot &s : slots_) {
+    ir::DiscreteValue d;
+    d.name = s.name;
+    d.kind = s.kind;
+    if (s.kind == ir::DiscreteKind::Variable)
+      d.start = m_.variables[s.var].start;
+    else if (s.kind == ir::DiscreteKind::Relation)
+      d.start = startValue(s.node);
+    else if (s.kind == ir::DiscreteKind::When)
+      d.start = startValue(m_.whenClauses[s.when].condition) != 0 ? 1 : 0;
+    out_.discrete.push_back(d);
+  }
+  // Names print verbatim: the variable, `(h <= 0)` for a relation's
+  // frozen value, `pre(heat)`.
+  auto add = [&](const std::string &name, double value) {
+    ir::Parameter p;
+    p.name = name;
+    p.value = value;
+    p.discrete = true;
+    m_.addParameter(std::move(p));
+  };
+  for (size_t k = 0; k < slots_.size(); ++k) {
+    const Slot &s = slots_[k];
+    add(s.kind == ir::DiscreteKind::Relation || s.kind == ir::DiscreteKind::When
+            ? "(" + s.name + ")"
+            : s.name,
+        out_.discrete[k].start);
+  }
+  for (size_t k = 0; k < slots_.size(); ++k)
+    add("pre(" + slots_[k].name + ")", out_.discrete[k].start);
+}
+
+/// Which discrete equation defines which discrete variable (a matching:
+/// the equation must be solvable for it, linearly), and the value.
+bool EventBuilder::defineVariables(std::vector<ir::ExprRef> &value) {
+  std::vector<bool> whenAssigned(m_.variables.size(), false);
+  for (const ir::WhenClause &w : m_.whenClauses)
+    for (ir::ExprRef t : w.targets)
+      whenAssigned[t->var()] = true;
+  std::vector<ir::VarId> vars;
+  std::map<ir::VarId, int> column;
+  for (const Slot &s : slots_)
+    if (s.kind == ir::DiscreteKind::Variable && !whenAssigned[s.var]) {
+      column[s.var] = static_cast<int>(vars.size());
+      vars.push_back(s.var);
+    }
+  // The solved form of equation e for each variable it is linear in.
+  std::vector<std::map<int, ir::ExprRef>> solved(discreteEqs_.size());
+  graph::BipartiteGraph g(static_cast<int>(discreteEqs_.size()),
+                          static_cast<int>(vars.size()));
+  for (size_t e = 0; e < discreteEqs_.size(); ++e) {
+    ir::ExprRef r = discreteEqs_[e].residual;
+    for (ir::VarKey k : ir::freeVariables(r)) {
+      auto it = column.find(k.var);
+      if (k.order != 0 || it == column.end())
+        continue;
+      auto at = [&](double x) {
+        ir::Substitution s(ctx_);
+        s.set(ctx_.var(k.var), ctx_.constant(x));
+        return s.apply(r);
+      };
+      ir::ExprRef r0 = at(0), a = ctx_.sub(at(1), r0);
+      if (!a->isConstant() || a->isConstant(0) ||
+          ctx_.sub(at(2), r0) != ctx_.mul(ctx_.constant(2), a))
+        continue;
+      solved[e][it->second] = ctx_.div(ctx_.neg(r0), a);
+      g.rows[e].push_back(it->second);
+    }
+  }
+  graph::Matching mt = graph::maximumMatching(g);
+  bool ok = true;
+  for (size_t e = 0; e < discreteEqs_.size(); ++e) {
+    if (mt.rowMate[e] >= 0)
+      continue;
+    ok = false;
+    const ir::Equation &eq = discreteEqs_[e];
+    if (!g.rows[e].empty()) {
+      // Every variable it could define is defined by another equation.
+      int j = g.rows[e][0];
+      pc_.diags.report(DiagId::ErrDiscreteTwice, eq.loc,
+                       {m_.variables[vars[j]].name, eq.text,
+                        discreteEqs_[mt.colMate[j]].text});
+      continue;
+    }
+    std::string var;
+    bool assigned = false;
+    for (ir::VarKey k : ir::freeVariables(eq.residual))
+      if (discrete_[k.var] && var.empty() &&
+          m_.variables[k.var].input == ir::EventInput::None) {
+        var = m_.variables[k.var].name;
+        assigned = whenAssigned[k.var];
+      }
+    if (assigned)
+      pc_.diags.report(DiagId::ErrDiscreteTwice, eq.loc,
+                       {var, eq.text, "a when-clause"});
+    else
+      pc_.diags.report(DiagId::ErrDiscreteNotSolvable, eq.loc, {eq.text, var});
+  }
+  for (size_t j = 0; j < vars.size(); ++j) {
+    int e = mt.colMate[j];
+    if (e < 0) {
+      ok = false;
+      pc_.diags.report(DiagId::ErrDiscreteUndefined,
+                       m_.variables[vars[j]].loc, {m_.variables[vars[j]].name});
+      continue;
+    }
+    value[slotOfVar_[vars[j]]] = solved[e][static_cast<int>(j)];
+    definedBy_[slotOfVar_[vars[j]]] = discreteEqs_[e].text;
+  }
+  return ok;
+}
+
+/// Whether the condition of branch `clause` rose at this event: it is 1
+/// and its pre() is 0; during the initial event only a condition with
+/// initial() fires (and does, whatever its pre()).
+ir::ExprRef EventBuilder::risen(size_t clause) {
+  const ir::WhenClause &w = m_.whenClauses[clause];
+  size_t k = slotOfWhen_[clause];
+  const Slot &initial = slots_[static_cast<size_t>(initialSlot_)];
+  ir::ExprRef init = cur(static_cast<size_t>(initialSlot_));
+  if (ir::dependsOn(w.condition, {initial.var, 0}))
+    return ctx_.logicalAnd(cur(k),
+                           ctx_.logicalOr(init, ctx_.logicalNot(pre(k))));
+  return ctx_.logicalAnd(std::vector<ir::ExprRef>{
+      cur(k), ctx_.logicalNot(pre(k)), ctx_.logicalNot(init)});
+}
+
+/// Whether branch `clause` fires: it rose and no earlier branch of the
+/// same when-equation did (elsewhen priority).
+ir::ExprRef EventBuilder::fired(size_t clause) {
+  ir::ExprRef f = risen(clause);
+  for (size_t j = clause; j > 0 && m_.whenClauses[j].elsewhen; --j)
+    f = ctx_.logicalAnd(f, ctx_.logicalNot(risen(j - 1)));
+  return f;
+}
+
+bool EventBuilder::buildUpdate() {
+  const size_t K = slots_.size();
+  defSubst_ = std::make_unique<ir::Substitution>(ctx_);
+  ir::Substitution &sd = *defSubst_;
+  for (size_t k = 0; k < K; ++k)
+    if (slots_[k].node && slots_[k].kind != ir::DiscreteKind::Relation) {
+      sd.set(slots_[k].node, cur(k));
+      sd.set(ctx_.pre(slots_[k].var), pre(k));
+    }
+  // pre(x) of a continuous x: its value just before the event.
+  std::vector<ir::ExprRef> all;
+  for (const ir::WhenClause &w : m_.whenClauses) {
+    for (const ir::Equation &e : w.equations)
+      all.push_back(e.residual);
+    for (const ir::Reinit &r : w.reinits)
+      all.push_back(r.value);
+    all.push_back(w.condition);
+  }
+  for (const ir::Equation &e : discreteEqs_)
+    all.push_back(e.residual);
+  for (ir::ExprRef n : ir::topologicalOrder(all))
+    if (n->kind() == ir::ExprKind::Pre && !discrete_[n->var()])
+      sd.set(n, ctx_.var(n->var()));
+  // Time relations at their right limit: `time > t0` is 1 at t0.
+  for (const Slot &s : slots_)
+    if (s.timeRelation) {
+      bool above = s.timeCompare == ir::CompareKind::Gt ||
+                   s.timeCompare == ir::CompareKind::Ge;
+      ir::ExprRef thr = sd.apply(s.threshold);
+      sd.set(s.node, ctx_.compare(above ? ir::CompareKind::Ge
+                                        : ir::CompareKind::Lt,
+                                  ctx_.time(), thr));
+    }
+
+  def_.assign(K, nullptr);
+  std::vector<ir::ExprRef> solved(K, nullptr);
+  bool ok = defineVariables(solved);
+  for (size_t k = 0; k < K; ++k) {
+    const Slot &s = slots_[k];
+    switch (s.kind) {
+    case ir::DiscreteKind::Variable:
+      if (solved[k])
+        def_[k] = sd.apply(solved[k]);
+      break;
+    case ir::DiscreteKind::Relation:
+      def_[k] = sd.apply(s.node);
+      break;
+    case ir::DiscreteKind::When:
+      def_[k] = sd.apply(m_.whenClauses[s.when].condition);
+      break;
+    default: // inputs: the runtime sets them; the update copies them
+      def_[k] = cur(k);
+      break;
+    }
+  }
+  // when-assignments: `if fired then e else pre(v)`, the first branch
+  // (in source order) that fires deciding.
+  for (size_t i = m_.whenClauses.size(); i-- > 0;) {
+    const ir::WhenClause &w = m_.whenClauses[i];
+    for (size_t a = 0; a < w.targets.size(); ++a) {
+      size_t k = slotOfVar_[w.targets[a]->var()];
+      ir::ExprRef value =
+          sd.apply(ctx_.sub(w.targets[a], w.equations[a].residual));
+      def_[k] = ctx_.ifThenElse(fired(i), value, def_[k] ? def_[k] : pre(k));
+    }
+  }
+  // Inline in dependency order: D_k reads the new values of others as
+  // their current Parameter.
+  std::vector<std::vector<size_t>> reads(K);
+  for (size_t k = 0; k < K; ++k) {
+    if (!def_[k])
+      def_[k] = pre(k);
+    for (ir::ParamId p : ir::freeParameters(def_[k]))
+      if (p >= out_.current(0) && p < out_.pre(0) && p != out_.current(k) &&
+          !isInput(slots_[p - out_.base].kind))
+        reads[k].push_back(p - out_.base);
+  }
+  std::vector<int> state(K, 0); // 0 new, 1 on the stack, 2 done
+  std::vector<size_t> order, stack;
+  std::function<bool(size_t)> visit = [&](size_t k) {
+    if (state[k] == 2)
+      return true;
+    if (state[k] == 1) {
+      std::vector<std::string> names;
+      auto it = std::find(stack.begin(), stack.end(), k);
+      auto text = [&](size_t j) {
+        auto d = definedBy_.find(j);
+        return "'" + (d != definedBy_.end() ? d->second : slots_[j].name) +
+               "'";
+      };
+      for (; it != stack.end(); ++it)
+        names.push_back(text(*it));
+      names.push_back(text(k));
+      std::string cycle;
+      for (size_t i = 0; i < names.size(); ++i)
+        cycle += (i ? " -> " : "") + names[i];
+      pc_.diags.report(DiagId::ErrDiscreteCycle, m_.loc, {cycle});
+      return false;
+    }
+    state[k] = 1;
+    stack.push_back(k);
+    for (size_t j : reads[k])
+      if (!visit(j))
+        return false;
+    stack.pop_back();
+    state[k] = 2;
+    order.push_back(k);
+    return true;
+  };
+  for (size_t k = 0; k < K; ++k)
+    if (!visit(k))
+      return false;
+  if (!ok)
+    return false;
+  ir::Substitution inl(ctx_);
+  out_.update.assign(K, nullptr);
+  for (size_t k : order) {
+    out_.update[k] = inl.apply(def_[k]);
+    if (!isInput(slots_[k].kind))
+      inl.set(cur(k), out_.update[k]);
+  }
+
+  for (size_t i = 0; i < m_.whenClauses.size(); ++i) {
+    const ir::WhenClause &w = m_.whenClauses[i];
+    ir::ExprRef f = inl.apply(fired(i));
+    for (const ir::Reinit &r : w.reinits)
+      out_.reinits.push_back(
+          {r.var, inl.apply(sd.apply(r.value)), f, r.loc});
+    for (const ir::Terminate &t : w.terminates)
+      out_.terminates.push_back({f, t.message});
+  }
+  return true;
+}
+
+bool EventBuilder::buildTimeEvents() {
+  // Roots, thresholds and asserts read the current (frozen) discrete
+  // values; relations inside them are evaluated directly.
+  ir::Substitution sr(ctx_);
+  for (size_t k = 0; k < slots_.size(); ++k)
+    if (slots_[k].node && slots_[k].kind != ir::DiscreteKind::Relation) {
+      sr.set(slots_[k].node, cur(k));
+      sr.set(ctx_.pre(slots_[k].var), pre(k));
+    }
+  bool ok = true;
+  for (size_t k = 0; k < slots_.size(); ++k) {
+    const Slot &s = slots_[k];
+    if (s.kind == ir::DiscreteKind::Relation && s.timeRelation) {
+      out_.timeThresholds.push_back(sr.apply(s.threshold));
+      out_.thresholdRelation.push_back(static_cast<uint32_t>(k));
+    } else if (s.kind == ir::DiscreteKind::Relation) {
+      out_.roots.push_back(
+          sr.apply(ctx_.sub(s.node->operand(0), s.node->operand(1))));
+      out_.rootRelation.push_back(static_cast<uint32_t>(k));
+    } else if (s.kind == ir::DiscreteKind::Sample) {
+      const ir::Variable &v = m_.variables[s.var];
+      ir::ExprRef parts[] = {v.sampleStart, v.sampleInterval};
+      const char *what[] = {"start", "interval"};
+      for (int i = 0; i < 2; ++i) {
+        bool userParams = true;
+        for (ir::ParamId p : ir::freeParameters(parts[i]))
+          userParams = userParams && p < out_.base;
+        if (!ir::freeVariables(parts[i]).empty() ||
+            ir::dependsOnTime(parts[i]) || !userParams) {
+          pc_.diags.report(DiagId::ErrSampleNotParameter, v.loc, {what[i]});
+          ok = false;
+        }
+      }
+      out_.samples.push_back({parts[0], parts[1]});
+      out_.sampleDiscrete.push_back(static_cast<uint32_t>(k));
+    }
+  }
+  for (const ir::Assert &a : m_.asserts)
+    out_.asserts.push_back({sr.apply(a.condition), a.message, a.level, a.loc});
+  return ok;
+}
+
+/// Incidence of an expression: the continuous Variable nodes it reads.
+std::vector<ir::VarKey> incidence(ir::ExprRef e) {
+  return ir::freeVariables(e);
+}
+
+void EventBuilder::chooseMode() {
+  // An if-equation (a residual `if c then r1 else r2`, elseif chains
+  // nested in the else branch) whose branches read different unknowns:
+  // the discrete values in c choose the structure.
+  std::set<uint32_t> mode;
+  std::function<void(ir::ExprRef)> visit = [&](ir::ExprRef r) {
+    if (r->kind() != ir::ExprKind::If)
+      return;
+    if (incidence(r->operand(1)) != incidence(r->operand(2)))
+      for (ir::ParamId p : ir::freeParameters(r->operand(0)))
+        if (p >= out_.current(0) && p < out_.pre(0))
+          mode.insert(p - out_.base);
+    visit(r->operand(1));
+    visit(r->operand(2));
+  };
+  for (const ir::Equation &e : m_.equations)
+    visit(e.residual);
+  if (mode.empty())
+    return;
+  out_.modeDiscrete.assign(mode.begin(), mode.end());
+  const std::vector<double> &given = pc_.opts.modeValues;
+  for (size_t i = 0; i < out_.modeDiscrete.size(); ++i)
+    out_.modeValues.push_back(given.size() == mode.size()
+                                  ? given[i]
+                                  : out_.discrete[out_.modeDiscrete[i]].start);
+  applyMode(m_, out_, out_.modeValues);
+}
+
+bool EventBuilder::run() {
+  discrete_ = ir::discreteVariables(m_);
+  bool anyRelation = false;
+  for (const ir::Equation &e : m_.equations)
+    for (ir::ExprRef n : ir::topologicalOrder(std::span(&e.residual, 1)))
+      anyRelation = anyRelation || ir::isEventRelation(n, discrete_);
+  if (!anyRelation && m_.whenClauses.empty() && m_.asserts.empty() &&
+      std::find(discrete_.begin(), discrete_.end(), true) == discrete_.end())
+    return true;
+  // when-clauses need initial() to know the initial event.
+  if (!m_.whenClauses.empty() && !m_.findVariable("initial()")) {
+    ir::Variable v;
+    v.name = "initial()";
+    v.isDiscrete = v.isBoolean = true;
+    v.input = ir::EventInput::Initial;
+    m_.addVariable(std::move(v));
+    discrete_.push_back(true);
+  }
+  for (ir::VarId v = 0; v < m_.variables.size(); ++v)
+    m_.variables[v].isDiscrete = discrete_[v];
+  partitionEquations();
+  collectSlots();
+  addParameters();
+
+  // The continuous equations read the frozen values.
+  ir::Substitution sc(ctx_);
+  for (size_t k = 0; k < slots_.size(); ++k) {
+    const Slot &s = slots_[k];
+    if (s.kind == ir::DiscreteKind::Relation) {
+      sc.set(s.node, cur(k));
+    } else if (s.node) {
+      sc.set(s.node, cur(k));
+      sc.set(ctx_.pre(s.var), pre(k));
+    }
+  }
+  bool ok = buildUpdate();
+  ok = buildTimeEvents() && ok;
+  for (ir::Equation &e : continuous_)
+    e.residual = sc.apply(e.residual);
+  for (ir::Equation &e : m_.initialEquations)
+    e.residual = sc.apply(e.residual);
+  m_.equations = std::move(continuous_);
+  if (!ok)
+    return false;
+  chooseMode();
+  EventsReport rep;
+  static const char *kinds[] = {"variable", "relation", "when",
+                                "sample",   "initial",  "terminal"};
+  for (const ir::DiscreteValue &d : out_.discrete)
+    rep.discrete.push_back(d.name + " (" + kinds[static_cast<int>(d.kind)] +
+                           ")");
+  for (ir::ExprRef r : out_.roots)
+    rep.roots.push_back(ir::printLsd(r, &m_));
+  for (ir::ExprRef t : out_.timeThresholds)
+    rep.timeThresholds.push_back(ir::printLsd(t, &m_));
+  rep.samples = static_cast<int>(out_.samples.size());
+  rep.reinits = static_cast<int>(out_.reinits.size());
+  rep.asserts = static_cast<int>(out_.asserts.size());
+  for (uint32_t k : out_.modeDiscrete)
+    rep.mode.push_back(out_.discrete[k].name);
+  pc_.report.events = std::move(rep);
+  return true;
+}
+
+class EventsPass
+    : public TypedPass<EventsPass, Reads<>, Updates<>, Produces<EventResult>> {
+public:
+  EventsPass() : TypedPass(PassId::Events) {}
+  bool runOn(PassContext &pc, EventResult &out) {
+    pc.events = &out;
+    return EventBuilder(pc, out).run();
+  }
+};
+
+} // namespace
+
+void applyMode(ir::Model &m, const EventResult &ev,
+               std::span<const double> values) {
+  ir::ExprContext &ctx = m.ctx();
+  ir::Substitution s(ctx);
+  for (size_t i = 0; i < ev.modeDiscrete.size() && i < values.size(); ++i)
+    s.set(ctx.param(ev.current(ev.modeDiscrete[i])), ctx.constant(values[i]));
+  for (ir::Equation &e : m.equations)
+    e.residual = s.apply(e.residual);
+  for (ir::Equation &e : m.initialEquations)
+    e.residual = s.apply(e.residual);
+}
+
+bool fillEvents(PassContext &pc, const EventResult &ev,
+                const std::function<ir::ExprRef(ir::ExprRef)> &apply,
+                ir::DaeSystem &sys) {
+  const ir::Model &m = pc.model;
+  ir::ExprContext &ctx = m.ctx();
+  const size_t user = m.userParameterCount();
+  sys.parameterValues.clear();
+  sys.parameterNames.clear();
+  for (size_t p = 0; p < user; ++p) {
+    sys.parameterValues.push_back(m.parameters[p].value);
+    sys.parameterNames.push_back(m.parameters[p].name);
+  }
+  if (ev.empty())
+    return true;
+  ir::EventSystem &es = sys.events;
+  es.discrete = ev.discrete;
+  for (ir::ExprRef e : ev.update)
+    es.update.push_back(apply(e));
+  for (size_t j = 0; j < ev.roots.size(); ++j) {
+    sys.roots.push_back(apply(ev.roots[j]));
+    es.rootRelation.push_back(ev.rootRelation[j]);
+  }
+  for (ir::ExprRef e : ev.timeThresholds)
+    es.timeThresholds.push_back(apply(e));
+  es.thresholdRelation = ev.thresholdRelation;
+  for (const auto &[start, interval] : ev.samples)
+    es.samples.push_back({apply(start), apply(interval)});
+  es.sampleDiscrete = ev.sampleDiscrete;
+  for (const ir::AssertCheck &a : ev.asserts)
+    es.asserts.push_back({apply(a.condition), a.message, a.level, a.loc});
+  for (const ir::TerminateUpdate &t : ev.terminates)
+    es.terminates.push_back({apply(t.fired), t.message});
+  es.modeDiscrete = ev.modeDiscrete;
+  es.modeValues = ev.modeValues;
+
+  // A reinit writes a state's slot: through an alias `x = -y` it writes
+  // y with the opposite sign.
+  const std::vector<bool> differential = ir::anyDifferential(sys);
+  bool ok = true;
+  for (const EventResult::Reinit &r : ev.reinits) {
+    ir::ExprRef target = apply(ctx.var(r.var));
+    ir::ExprRef sign = ctx.one();
+    if (target->kind() == ir::ExprKind::Mul && target->numOperands() == 2 &&
+        target->operand(0)->isConstant()) {
+      sign = target->operand(0);
+      target = target->operand(1);
+    }
+    int slot = -1;
+    if (target->kind() == ir::ExprKind::Variable)
+      for (size_t i = 0; i < sys.unknowns.size(); ++i)
+        if (sys.unknowns[i].key == target->varKey() && differential[i])
+          slot = static_cast<int>(i);
+    if (slot < 0) {
+      pc.diags.report(DiagId::ErrReinitNotState, r.loc,
+                      {m.variables[r.var].name});
+      ok = false;
+      continue;
+    }
+    es.reinits.push_back({static_cast<uint32_t>(slot),
+                          ctx.div(apply(r.value), sign), apply(r.fired)});
+  }
+  return ok;
+}
+
+std::unique_ptr<Pass> createEventsPass() {
+  return std::make_unique<EventsPass>();
+}
+
+} // namespace ldae::passes
