@@ -209,10 +209,13 @@ def bouncing_ball_zeno(c):
     if not r:
         return
     status, rows, err = r
+    # The chattering of chatter.lsd is an error (status 3); the ball's
+    # accumulation has a limit, the ball at rest, and the run goes on.
     print("exit status %d; stderr:\n%s" % (status, err.strip()))
-    c.check(status in (0, 3), "past the accumulation point %.4f s: exit "
-            "status 0 or 3 (%d)" % (t_inf, status))
-    c.check("h <= 0" in err, "the report names the condition h <= 0")
+    c.check(status == 0, "past the accumulation point %.4f s: the run ends "
+            "cleanly, exit status 0 (%d)" % (t_inf, status))
+    c.check("h <= 0" in err and re.search(r"zeno|accumulat", err, re.I),
+            "the accumulation reported, naming the condition h <= 0")
     c.check(any(abs(t - t_inf) <= 0.01 for t in numbers(err)),
             "the report gives the accumulation time %.4f to 0.01" % t_inf)
     before = [row for row in rows if row["time"] < t_inf - 0.01]
@@ -221,13 +224,12 @@ def bouncing_ball_zeno(c):
     low = min((row["h"] for row in rows), default=0)
     c.check(low >= -1e-6, "the ball never sinks into the floor "
             "(lowest h %.2e)" % low)
-    if status == 0:
-        c.check(rows[-1]["time"] == 6, "exit 0: the last row at the stop "
-                "time 6 (%s)" % rows[-1]["time"])
-        rest = [row for row in rows if row["time"] > t_inf + 0.01]
-        h = max((abs(row["h"]) + abs(row["v"]) for row in rest), default=0)
-        c.check(h <= 1e-6, "exit 0: the ball at rest after it "
-                "(|h| + |v| <= 1e-6, max %.2e)" % h)
+    c.check(rows and rows[-1]["time"] == 6, "the last row at the stop time "
+            "6 (%s)" % (rows[-1]["time"] if rows else None))
+    rest = [row for row in rows if row["time"] > t_inf + 0.01]
+    h = max((abs(row["h"]) + abs(row["v"]) for row in rest), default=1)
+    c.check(h <= 1e-6, "the ball at rest after it (|h| + |v| <= 1e-6, "
+            "max %.2e)" % h)
 
 
 # ---- two capacitors -----------------------------------------------------------
