@@ -113,7 +113,10 @@ void EventLoop::noteJump(double t, const std::vector<double> &before,
   std::string moved;
   int count = 0;
   for (int i = 0; i < ev_.n(); ++i) {
-    if (!differs(before[i], after[i]))
+    // States only: algebraic values may follow a discrete change anyway.
+    double scale = std::max(std::fabs(before[i]), std::fabs(after[i]));
+    if ((states_ && !states_[i]) || !differs(before[i], after[i]) ||
+        std::fabs(before[i] - after[i]) <= 1e-13 * scale)
       continue;
     if (++count <= 8)
       moved += fmt::format("{}{} {:.10g} -> {:.10g}", moved.empty() ? "" : ", ",
@@ -128,6 +131,34 @@ void EventLoop::noteJump(double t, const std::vector<double> &before,
                                    : std::string());
 }
 
+bool EventLoop::observed(double t, const std::vector<double> &y,
+                         const std::vector<double> &yp) {
+  // The discrete values before this update are still the pre() values.
+  double *cur = ev_.discrete();
+  std::vector<double> now(cur, cur + nd_);
+  auto evaluate = [&](std::vector<double> &into) {
+    into.assign(size_t(ev_.n()) * m_.n_state_sets + m_.n_outputs, 0.0);
+    int rc = 0;
+    for (int k = 0; k < m_.n_state_sets; ++k)
+      rc |= ev_.residual(k, t, y.data(), yp.data(), into.data() + k * ev_.n());
+    if (m_.n_outputs > 0 && m_.outputs)
+      rc |= m_.outputs(t, y.data(), yp.data(), ev_.params(),
+                       into.data() + ev_.n() * m_.n_state_sets);
+    return rc == 0;
+  };
+  std::vector<double> after, before;
+  bool ok = evaluate(after);
+  std::copy(ev_.pre(), ev_.pre() + nd_, cur);
+  ok = ok && evaluate(before);
+  std::copy(now.begin(), now.end(), cur);
+  if (!ok)
+    return true;
+  for (size_t i = 0; i < after.size(); ++i)
+    if (differs(after[i], before[i]))
+      return true;
+  return false;
+}
+
 EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
                                 std::vector<double> &yp,
                                 const Reinitialize &reinit) {
@@ -136,7 +167,7 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
   std::vector<double> before = y;
   std::vector<bool> changedAny(nd_, false), changed(nd_);
   std::vector<double> fired(nr, std::numeric_limits<double>::quiet_NaN());
-  bool anyChange = false;
+  bool visible = false;
   std::string terminated;
   for (int iter = 0;; ++iter) {
     if (!update(t, y.data(), yp.data())) {
@@ -169,7 +200,6 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
     }
     if (!any && held.empty())
       break;
-    anyChange = true;
     if (iter + 1 >= kMaxIterations) {
       message_ = fmt::format(
           "the event iteration at t = {:.10g} found no fixed point after {} "
@@ -181,14 +211,20 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
     // model re-initializes (and iterates on).
     if (modeChanged())
       break;
-    std::string failure;
-    if (!reinit(t, y, yp, held, failure)) {
-      message_ = failure;
-      return EventOutcome::Failed;
+    // A change that neither a residual nor an output reads (a relation
+    // that only guards a when-clause, crossing back) needs no restart and
+    // shows in no row.
+    if (!held.empty() || observed(t, y, yp)) {
+      std::string failure;
+      if (!reinit(t, y, yp, held, failure)) {
+        message_ = failure;
+        return EventOutcome::Failed;
+      }
+      visible = true;
     }
     std::copy(cur, cur + nd_, ev_.pre());
   }
-  if (!anyChange)
+  if (!visible && terminated.empty() && !modeChanged())
     return EventOutcome::Unchanged;
   noteJump(t, before, y);
   recent_.push_back({t, changedAny, fired});
@@ -339,8 +375,8 @@ EventOutcome EventLoop::initial(double t, std::vector<double> &y,
   if (out == EventOutcome::Handled && !recent_.empty())
     recent_.pop_back();
   if (out != EventOutcome::Failed && out != EventOutcome::ModeChange) {
-    settle(LDAE_DISCRETE_INITIAL, t, y.data(), yp.data());
     setKind(LDAE_DISCRETE_SAMPLE, 0.0);
+    settle(LDAE_DISCRETE_INITIAL, t, y.data(), yp.data());
   }
   return out;
 }

@@ -66,6 +66,14 @@ public:
   /// True when it changed a discrete value.
   bool terminal(double t, const double *y, const double *yp);
 
+  /// The differential flags of the state set the integrator runs (null:
+  /// every unknown is a state), for telling jumps.
+  void setStates(const int *isDifferential) { states_ = isDifferential; }
+  /// Counts a jump and logs the states that moved from `before` to
+  /// `after` (beyond round-off), if any.
+  void noteJump(double t, const std::vector<double> &before,
+                const std::vector<double> &after);
+
   /// The discrete values of the mode (ldae_model::mode_discrete order).
   std::vector<double> modeValues() const;
   /// The message of Terminated, AtRest and Failed.
@@ -79,14 +87,16 @@ private:
   bool update(double t, const double *y, const double *yp);
   EventOutcome iterate(double t, std::vector<double> &y,
                        std::vector<double> &yp, const Reinitialize &reinit);
+  /// Whether the residuals or the outputs at (t, y, y') read the discrete
+  /// values the last update changed (current against pre()).
+  bool observed(double t, const std::vector<double> &y,
+                const std::vector<double> &yp);
   void settle(int kind, double t, const double *y, const double *yp);
   void setKind(int kind, double v);
   bool sampleInstant(int s, double t, const double *y, const double *yp) const;
   EventOutcome checkAccumulation(double t, std::vector<double> &y,
                                  const std::vector<double> &fired);
   bool modeChanged() const;
-  void noteJump(double t, const std::vector<double> &before,
-                const std::vector<double> &after);
   std::string namesOf(const std::vector<bool> &which) const;
 
   ModelEval &ev_;
@@ -94,6 +104,7 @@ private:
   int nd_;
   double rtol_;
   std::ostream *log_;
+  const int *states_ = nullptr;
   std::vector<double> out_; // event_update's output
   std::string message_;
   long events_ = 0, timeEvents_ = 0, jumps_ = 0;

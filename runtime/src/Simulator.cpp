@@ -265,6 +265,40 @@ bool initializeFrom(const ModelEval &ev, Integrator &ida, int set, double t0,
   return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
 }
 
+/// The re-initialization after an event by the jump rule (the state just
+/// before, reinit values written in, onto the consistent set of the current
+/// discrete values along T of the model as written, the reinit targets
+/// `held`), and the integrator restarted there. False with `failure`.
+bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
+                       std::vector<double> &y, std::vector<double> &yp,
+                       const std::vector<int> &held, std::string &failure,
+                       std::ostream *log) {
+  // The moves are logged as the event's jump (EventLoop), not twice.
+  InitOutcome init =
+      reinitializeAfterEvent(ev, ida.set(), t, y, yp, held, nullptr);
+  if (!init.ok) {
+    failure = init.domainRow >= 0
+                  ? initFailure(ev, ida.set(), t, init)
+                  : fmt::format("the re-initialization after the event at t "
+                                "= {:.10g} failed: {}",
+                                t, init.failure);
+    return false;
+  }
+  if (init.nearestPoint && log)
+    *log << fmt::format("t = {:.10g}: re-initialization: holding the reinit "
+                        "values leaves no step along the jump space; the "
+                        "nearest consistent point is used\n",
+                        t);
+  auto re = ida.reinit(ida.set(), t, init.y.data(), init.yp.data());
+  if (!re) {
+    failure = describeSolverError(t, re.error());
+    return false;
+  }
+  y = init.y;
+  yp = init.yp;
+  return true;
+}
+
 /// The continuation of homotopy(): from the simplified model (lambda = 0),
 /// solved from the start values, to the actual one (lambda = 1), each
 /// initialization starting from the last; the step in lambda grows after a
@@ -592,40 +626,36 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     return done(StageEnd::Done);
   }
   auto init0 = std::chrono::steady_clock::now();
-  bool initialized =
-      fromStart ? initialize(ev, ida, set, t, firstOutput(t), res_, o_.log)
-                : initializeFrom(ev, ida, set, t, firstOutput(t), y, yp, res_,
-                                 o_.log);
+  bool initialized = true;
+  if (fromStart) {
+    initialized = initialize(ev, ida, set, t, firstOutput(t), res_, o_.log);
+  } else {
+    // The new mode's model from the point carried over: the jump rule,
+    // nothing held (the old model's fixed start values are no conditions
+    // here).
+    std::vector<double> y0 = y, yp0 = yp;
+    initialized =
+        restartAfterEvent(ev, ida, t, y0, yp0, {}, res_.failure, o_.log);
+  }
   res_.stats.initTime +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - init0)
           .count();
   if (!initialized)
     return done(StageEnd::Done);
+  events.setStates(ev.set(ida.set()).is_differential);
+  if (!fromStart)
+    events.noteJump(t, y, std::vector<double>(ida.y(), ida.y() + n));
   y.assign(ida.y(), ida.y() + n);
   yp.assign(ida.yp(), ida.yp() + n);
 
   // The re-initialization after an event: the held point made consistent
   // with the new discrete values by the start's rule, the integrator
   // restarted there.
-  Reinitialize reinit = [&](double te, std::vector<double> &ye,
-                            std::vector<double> &ype, const std::vector<int> &,
-                            std::string &failure) {
-    auto re = ida.reinit(ida.set(), te, ye.data(), ype.data());
-    if (!re) {
-      failure = describeSolverError(te, re.error());
-      return false;
-    }
-    if (!initializeFrom(ev, ida, ida.set(), te, firstOutput(te), ye, ype, res_,
-                        nullptr)) {
-      failure =
-          fmt::format("after the event at t = {:.10g}: {}", te, res_.failure);
-      res_.failure.clear();
-      return false;
-    }
-    ye.assign(ida.y(), ida.y() + n);
-    ype.assign(ida.yp(), ida.yp() + n);
-    return true;
-  };
+  Reinitialize reinit =
+      [&](double te, std::vector<double> &ye, std::vector<double> &ype,
+          const std::vector<int> &held, std::string &failure) {
+        return restartAfterEvent(ev, ida, te, ye, ype, held, failure, o_.log);
+      };
   // The rows and the end of the run after an event; nothing when the run
   // goes on.
   auto concluded = [&](EventOutcome out) -> std::optional<StageEnd> {
@@ -771,6 +801,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
           !switchStates(ev, ida, best, t, std::min(s_.stop, t + s_.interval),
                         cond, res_, o_.log))
         return done(StageEnd::Done);
+      events.setStates(ev.set(ida.set()).is_differential);
     }
     progress_.update(t);
   }

@@ -12,6 +12,8 @@
 //  - togglingWhen(): der(x) = s; `when x <= 0 then s = 1; elsewhen x > 0
 //    then s = -1`: chatters at x = 0 from t = 1 on.
 //  - resetNear(c): der(x) = 1; `when x >= c then reinit(x, 0)`.
+//  - switchedMode(mode): the model of one mode of `if time >= 1 then
+//    der(x) = -x else der(x) = 1` compiled as a variable structure.
 //  - stopper(): der(x) = 1; `when x >= 0.5 then terminate("x reached
 //    0.5")`; assert(x < limit, "x stays below the limit"), limit = 0.65.
 #pragma once
@@ -369,6 +371,57 @@ inline ldae_model resetNear(double c) {
   setDiscrete(m, dnames, dstart, kinds, update);
   m.n_reinit = 1;
   m.reinit_target = target;
+  return m;
+}
+
+// ---- A variable structure: one model per mode ---------------------------
+// y = {x}; p = {time >= 1 | pre}.
+namespace mode_detail {
+using namespace event_detail;
+enum { NP = 0, ND = 1 };
+inline int resBefore(double, const double *, const double *yp, const double *,
+                     double *r) {
+  r[0] = yp[0] - 1;
+  return 0;
+}
+inline int resAfter(double, const double *y, const double *yp, const double *,
+                    double *r) {
+  r[0] = yp[0] + y[0];
+  return 0;
+}
+inline int update(double t, const double *, const double *, const double *,
+                  double *out) {
+  out[0] = t >= 1;
+  return 0;
+}
+inline int timeEvents(double, const double *, const double *, const double *,
+                      double *out) {
+  out[0] = 1;
+  return 0;
+}
+} // namespace mode_detail
+
+/// mode 0: der(x) = 1 (time < 1); mode 1: der(x) = -x.
+inline ldae_model switchedMode(int mode) {
+  using namespace mode_detail;
+  static const char *names[] = {"x"};
+  static const double y0[] = {0}, yp0[] = {1};
+  static const int diff[] = {1};
+  static const char *dnames[] = {"time >= 1"};
+  static const double dstart[] = {0};
+  static const int kinds[] = {LDAE_DISCRETE_RELATION};
+  static const int thresholdRel[] = {0}, modeDisc[] = {0};
+  static const double modeValues[2][1] = {{0}, {1}};
+  static ldae_state_set sets[2] = {stateSet(resBefore, diff),
+                                   stateSet(resAfter, diff)};
+  ldae_model m = odeModel("SwitchedMode", 1, names, y0, yp0, &sets[mode]);
+  setDiscrete(m, dnames, dstart, kinds, update);
+  m.n_time_thresholds = 1;
+  m.threshold_relation = thresholdRel;
+  m.time_events = timeEvents;
+  m.n_mode = 1;
+  m.mode_discrete = modeDisc;
+  m.mode_values = modeValues[mode];
   return m;
 }
 
