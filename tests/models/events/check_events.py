@@ -430,12 +430,23 @@ def rectifier(c, model, pieces):
         len(switches), ", ".join("%.10f" % t for t in offs)))
     pairs = event_pairs(rows)
     got = [a["time"] for a, _ in pairs]
-    match_events(c, got, switches, 1e-8, "diode switchings")
-    if len(got) == len(switches):
-        off_err = worst((g, t) for g, t, p in zip(got, switches, pieces[1:])
-                        if not p[3])
+    # At a turn-off the voltage across the diode leaves zero tangentially
+    # (the current of the RC load turns negative where vs' = -vs / RC =
+    # vc'): a relation without hysteresis may switch back and forth there
+    # within round-off. The instants are checked on the clusters of events
+    # 1e-8 apart; the extra switchings separately.
+    clusters = [g for i, g in enumerate(got) if i == 0 or g - got[i - 1] > 1e-8]
+    match_events(c, clusters, switches, 1e-8, "diode switching instants")
+    if len(clusters) == len(switches):
+        off_err = worst((g, t) for g, t, p in zip(clusters, switches,
+                                                  pieces[1:]) if not p[3])
         c.check(off_err <= 1e-8, "turn-off times to 1e-8 (max %.2e)" %
                 off_err)
+    c.check(len(got) == len(switches), "no switching back and forth at an "
+            "instant: %d events for %d switchings (at %s)" % (
+                len(got), len(switches), ", ".join(
+                    "%.12f" % g for i, g in enumerate(got)
+                    if 0 < i and g - got[i - 1] <= 1e-8)))
     seen = set()
     dv = 0
     for row in rows:
