@@ -122,7 +122,11 @@ def main():
         "across the jumps of the force. Integration time = wall time less initialization as "
         "--stats prints them. The energy v^2/2 + F |x| is conserved; its "
         "largest error over the output rows is what each answer is "
-        "worth.\n\n%s\n\n%s\n" % (machine(), table, summary))
+        "worth: Relay's is the integrator's own error at the default "
+        "tolerances, about 1.2e-6 per half swing, with no jump at the "
+        "events (so the amplitude shrinks and the crossings come a little "
+        "early: more than 10^4 in 20000 s).\n\n%s\n\n%s\n" % (
+            machine(), table, summary))
 
 
 if __name__ == "__main__":
