@@ -668,6 +668,21 @@ def features(c):
                 rows[-1]["time"] if rows else None))
 
 
+def algebraic_condition(c):
+    r = c.run("algebraic_condition.lsd", ["--outputs", "x,w,y,b"])
+    if not r:
+        return
+    rows = r[1]
+    pairs = event_pairs(rows)
+    match_events(c, [a["time"] for a, _ in pairs], [0.5], 1e-10,
+                 "w < 0 on the explicitly computed w")
+    d = max(abs(row["y"] - (0.5 - abs(row["time"] - 0.5))) for row in rows)
+    c.check(d <= 1e-9, "y = t, then 1 - t after the event (max %.2e)" % d)
+    if pairs:
+        c.check(pairs[0][0]["b"] == 0 and pairs[0][1]["b"] == 1,
+                "b false just before the event, true just after")
+
+
 # ---- the other backends ------------------------------------------------------
 
 def emit_c(c):
@@ -700,11 +715,12 @@ CASES = {f.__name__: f for f in (
     bouncing_ball, bouncing_ball_zeno, two_capacitors_switch,
     two_capacitors_resistor, two_capacitors_joined, half_wave_rectifier,
     half_wave_rectifier_switch, hysteresis, sampled_pi, chatter,
-    features, emit_c)}
+    features, algebraic_condition, emit_c)}
 # The same checks with the LLVM JIT (--jit auto interprets these small
 # models).
 JIT = ("bouncing_ball", "two_capacitors_switch", "half_wave_rectifier",
-       "half_wave_rectifier_switch", "hysteresis", "sampled_pi", "features")
+       "half_wave_rectifier_switch", "hysteresis", "sampled_pi", "features",
+       "algebraic_condition")
 
 
 def main(argv):
