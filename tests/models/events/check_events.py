@@ -496,7 +496,7 @@ def hysteresis(c):
         return out
 
     switches = [p[0] for p in pieces[1:]]
-    r = c.run("hysteresis.lsd", ["--rtol", "1e-11", "--atol", "1e-10",
+    r = c.run("hysteresis.lsd", ["--rtol", "1e-12", "--atol", "1e-12",
                                  "--outputs", "T,heat,Q", "--stats"])
     if not r:
         return
@@ -513,8 +513,11 @@ def hysteresis(c):
                      level_times(tbar - 1) + level_times(tbar))
     stray = [g for g in got if min(abs(g - t) for t in allowed) > 1e-8]
     c.check(not stray, "no event away from a threshold crossing (%s)" % stray)
+    # Near a switching T' changes by Qcapacity / C = 25 K/s: the instants'
+    # drift (2.4e-9 s after 19 switchings at rtol 1e-12, BDF's global
+    # error) shows there 25 times larger.
     dT = max(abs(row["T"] - temp(row["time"])) for row in rows)
-    c.check(dT <= 1e-8, "T against the piecewise closed form to 1e-8 "
+    c.check(dT <= 1e-7, "T against the piecewise closed form to 1e-7 "
             "(max %.2e)" % dT)
     on = [pieces[i][4] for i in range(len(pieces))]
     bad = 0
