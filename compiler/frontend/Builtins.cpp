@@ -114,11 +114,13 @@ Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
 }
 
 ir::ExprRef Flattener::eventInput(ir::EventInput kind, const std::string &text,
-                                  ir::ExprRef start, ir::ExprRef interval) {
+                                  ir::ExprRef start, ir::ExprRef interval,
+                                  SourceLoc loc) {
   if (std::optional<ir::VarId> v = model_->findVariable(text))
     return ctx().var(*v);
   ir::Variable v;
   v.name = text;
+  v.loc = loc; // the first call
   v.isDiscrete = true;
   v.isBoolean = true;
   v.input = kind;
@@ -303,7 +305,7 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
       return std::nullopt;
     return Value::scalar(eventInput(
         name == "initial" ? ir::EventInput::Initial : ir::EventInput::Terminal,
-        name + "()", nullptr, nullptr));
+        name + "()", nullptr, nullptr, call.loc));
   }
   if (name == "sample") {
     if (!argCount(2, 2) || !lowerArgs())
@@ -319,7 +321,7 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     std::string text = "sample(" + ir::printLsd(start, model_.get()) + ", " +
                        ir::printLsd(interval, model_.get()) + ")";
     return Value::scalar(
-        eventInput(ir::EventInput::Sample, text, start, interval));
+        eventInput(ir::EventInput::Sample, text, start, interval, call.loc));
   }
   if (name == "edge" || name == "change") {
     // edge(b) = b and not pre(b); change(v) = v <> pre(v).

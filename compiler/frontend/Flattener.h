@@ -245,7 +245,8 @@ public:
   /// The discrete variable standing for initial(), terminal() or a
   /// sample(start, interval) call (one per distinct call text).
   ir::ExprRef eventInput(ir::EventInput kind, const std::string &text,
-                         ir::ExprRef start, ir::ExprRef interval);
+                         ir::ExprRef start, ir::ExprRef interval,
+                         SourceLoc loc);
   ir::Model &model() { return *model_; }
   /// The parameter `homotopy.lambda` (1: the actual model) that every
   /// homotopy() with a simplified model blends by; made on first use.

@@ -73,6 +73,21 @@ ir::CompareKind mirrored(ir::CompareKind c) {
   }
 }
 
+/// `r = 0` solved for variable v when r is linear in it with a constant
+/// coefficient (`on - (s < 0)`, `2 * n - m`); null otherwise.
+ir::ExprRef solveLinear(ir::ExprContext &ctx, ir::ExprRef r, ir::VarId v) {
+  auto at = [&](double x) {
+    ir::Substitution s(ctx);
+    s.set(ctx.var(v), ctx.constant(x));
+    return s.apply(r);
+  };
+  ir::ExprRef r0 = at(0), a = ctx.sub(at(1), r0);
+  if (!a->isConstant() || a->isConstant(0) ||
+      ctx.sub(at(2), r0) != ctx.mul(ctx.constant(2), a))
+    return nullptr;
+  return ctx.div(ctx.neg(r0), a);
+}
+
 class EventBuilder {
 public:
   EventBuilder(PassContext &pc, EventResult &out)
@@ -80,6 +95,7 @@ public:
   bool run();
 
 private:
+  void initialDiscreteValues();
   bool partitionEquations();
   void collectSlots();
   void addParameters();
@@ -112,6 +128,38 @@ private:
   std::map<size_t, std::string> definedBy_; // slot -> its equation's text
   std::unique_ptr<ir::Substitution> defSubst_;
 };
+
+/// `initial equation heat = false;`: an initial equation of discrete
+/// values sets the start value of the variable it is solved for (the
+/// initial event starts from it); it is no equation of the continuous
+/// initialization.
+void EventBuilder::initialDiscreteValues() {
+  std::vector<ir::Equation> kept;
+  for (ir::Equation &e : m_.initialEquations) {
+    bool used = false;
+    if (ir::isDiscreteEquation(e.residual, discrete_))
+      for (ir::VarKey k : ir::freeVariables(e.residual)) {
+        if (used || k.order != 0 ||
+            m_.variables[k.var].input != ir::EventInput::None ||
+            !discrete_[k.var])
+          continue;
+        ir::ExprRef value = solveLinear(ctx_, e.residual, k.var);
+        if (!value)
+          continue;
+        ir::EvalEnv env = pc_.startEnv();
+        env.time = m_.experiment.startTime.value_or(0.0);
+        Expected<double> v = ir::evaluate(value, env, &m_);
+        if (!v)
+          continue;
+        m_.variables[k.var].start = *v;
+        m_.variables[k.var].hasStart = true;
+        used = true;
+      }
+    if (!used)
+      kept.push_back(std::move(e));
+  }
+  m_.initialEquations = std::move(kept);
+}
 
 bool EventBuilder::partitionEquations() {
   for (ir::Equation &e : m_.equations)
@@ -235,6 +283,12 @@ bool EventBuilder::defineVariables(std::vector<ir::ExprRef> &value) {
   for (const ir::WhenClause &w : m_.whenClauses)
     for (ir::ExprRef t : w.targets)
       whenAssigned[t->var()] = true;
+  // Where a when-clause assigns a variable, for messages.
+  std::map<ir::VarId, std::string> assignedIn;
+  for (const ir::WhenClause &w : m_.whenClauses)
+    for (ir::ExprRef t : w.targets)
+      assignedIn.emplace(t->var(), "when " + ir::printLsd(w.condition, &m_));
+  std::set<ir::VarId> reported;
   std::vector<ir::VarId> vars;
   std::map<ir::VarId, int> column;
   for (const Slot &s : slots_)
@@ -252,16 +306,10 @@ bool EventBuilder::defineVariables(std::vector<ir::ExprRef> &value) {
       auto it = column.find(k.var);
       if (k.order != 0 || it == column.end())
         continue;
-      auto at = [&](double x) {
-        ir::Substitution s(ctx_);
-        s.set(ctx_.var(k.var), ctx_.constant(x));
-        return s.apply(r);
-      };
-      ir::ExprRef r0 = at(0), a = ctx_.sub(at(1), r0);
-      if (!a->isConstant() || a->isConstant(0) ||
-          ctx_.sub(at(2), r0) != ctx_.mul(ctx_.constant(2), a))
+      ir::ExprRef value = solveLinear(ctx_, r, k.var);
+      if (!value)
         continue;
-      solved[e][it->second] = ctx_.div(ctx_.neg(r0), a);
+      solved[e][it->second] = value;
       g.rows[e].push_back(it->second);
     }
   }
@@ -280,25 +328,27 @@ bool EventBuilder::defineVariables(std::vector<ir::ExprRef> &value) {
                         discreteEqs_[mt.colMate[j]].text});
       continue;
     }
-    std::string var;
-    bool assigned = false;
+    std::optional<ir::VarId> var;
     for (ir::VarKey k : ir::freeVariables(eq.residual))
-      if (discrete_[k.var] && var.empty() &&
-          m_.variables[k.var].input == ir::EventInput::None) {
-        var = m_.variables[k.var].name;
-        assigned = whenAssigned[k.var];
-      }
-    if (assigned)
+      if (discrete_[k.var] && !var &&
+          m_.variables[k.var].input == ir::EventInput::None)
+        var = k.var;
+    std::string name = var ? m_.variables[*var].name : "";
+    if (var)
+      reported.insert(*var);
+    if (var && whenAssigned[*var])
       pc_.diags.report(DiagId::ErrDiscreteTwice, eq.loc,
-                       {var, eq.text, "a when-clause"});
+                       {name, eq.text, assignedIn[*var]});
     else
-      pc_.diags.report(DiagId::ErrDiscreteNotSolvable, eq.loc, {eq.text, var});
+      pc_.diags.report(DiagId::ErrDiscreteNotSolvable, eq.loc,
+                       {eq.text, name});
   }
   for (size_t j = 0; j < vars.size(); ++j) {
     int e = mt.colMate[j];
     if (e < 0) {
       ok = false;
-      pc_.diags.report(DiagId::ErrDiscreteUndefined,
+      if (!reported.count(vars[j]))
+        pc_.diags.report(DiagId::ErrDiscreteUndefined,
                        m_.variables[vars[j]].loc, {m_.variables[vars[j]].name});
       continue;
     }
@@ -534,6 +584,14 @@ void EventBuilder::chooseMode() {
     return;
   out_.modeDiscrete.assign(mode.begin(), mode.end());
   const std::vector<double> &given = pc_.opts.modeValues;
+  if (!given.empty()) {
+    // A mode reached during the run starts from the point the run carries
+    // over: the start's conditions (fixed start values, initial
+    // equations) do not apply to it.
+    for (ir::Variable &v : m_.variables)
+      v.fixed = false;
+    m_.initialEquations.clear();
+  }
   for (size_t i = 0; i < out_.modeDiscrete.size(); ++i)
     out_.modeValues.push_back(given.size() == mode.size()
                                   ? given[i]
@@ -561,6 +619,7 @@ bool EventBuilder::run() {
   }
   for (ir::VarId v = 0; v < m_.variables.size(); ++v)
     m_.variables[v].isDiscrete = discrete_[v];
+  initialDiscreteValues();
   partitionEquations();
   collectSlots();
   addParameters();

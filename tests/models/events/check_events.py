@@ -671,6 +671,19 @@ def features(c):
                 rows[-1]["time"] if rows else None))
 
 
+def iteration_limit(c):
+    r = c.run("iteration_limit.lsd", ["--outputs", "x,b"], expect=3,
+              timeout=60)
+    if not r:
+        return
+    _, rows, err = r
+    print(err.strip())
+    c.check("'b'" in err and any(abs(t - 0.5) <= 1e-9 for t in numbers(err)),
+            "the iteration limit reported at t = 0.5, naming b")
+    c.check(len([row for row in rows if row["time"] < 0.5 - 1e-9]) == 5,
+            "the rows before t = 0.5 kept")
+
+
 def algebraic_condition(c):
     r = c.run("algebraic_condition.lsd", ["--outputs", "x,w,y,b"])
     if not r:
@@ -718,7 +731,7 @@ CASES = {f.__name__: f for f in (
     bouncing_ball, bouncing_ball_zeno, two_capacitors_switch,
     two_capacitors_resistor, two_capacitors_joined, half_wave_rectifier,
     half_wave_rectifier_switch, hysteresis, sampled_pi, chatter,
-    features, algebraic_condition, emit_c)}
+    features, iteration_limit, algebraic_condition, emit_c)}
 # The same checks with the LLVM JIT (--jit auto interprets these small
 # models).
 JIT = ("bouncing_ball", "two_capacitors_switch", "half_wave_rectifier",

@@ -105,17 +105,19 @@ TEST(PassList, PipelinesRunInTableOrderOnResultsProducedBefore) {
 
 TEST(PassList, MethodPipelines) {
   std::vector<std::string> dd = namesOf(passes::pipelineFor(Method::DummyDerivatives));
+  // Every method sees the continuous system only: events runs first.
   EXPECT_EQ(dd, (std::vector<std::string>{
-                    "formal-index", "linear", "sga", "alias", "matching", "dm",
+                    "events", "formal-index", "linear", "sga", "alias", "matching", "dm",
                     "pantelides", "dummy-derivatives", "build-system",
                     "sga-check", "blt", "prune", "causalize", "init"}));
   // sga and ode: the vector field on P_f, no structural index reduction.
-  const std::vector<std::string> geometric{"formal-index", "linear", "sga",
-                                           "sga-system"};
+  const std::vector<std::string> geometric{"events", "formal-index",
+                                           "linear", "sga", "sga-system"};
   EXPECT_EQ(namesOf(passes::pipelineFor(Method::Sga)), geometric);
   EXPECT_EQ(namesOf(passes::pipelineFor(Method::Ode)), geometric);
   EXPECT_EQ(namesOf(passes::pipelineFor(Method::Raw)),
-            (std::vector<std::string>{"formal-index", "alias", "matching", "dm",
+            (std::vector<std::string>{"events", "formal-index", "alias",
+                                      "matching", "dm",
                                       "pantelides", "dummy-derivatives",
                                       "build-system", "blt"}));
 }
