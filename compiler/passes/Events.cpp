@@ -584,14 +584,6 @@ void EventBuilder::chooseMode() {
     return;
   out_.modeDiscrete.assign(mode.begin(), mode.end());
   const std::vector<double> &given = pc_.opts.modeValues;
-  if (!given.empty()) {
-    // A mode reached during the run starts from the point the run carries
-    // over: the start's conditions (fixed start values, initial
-    // equations) do not apply to it.
-    for (ir::Variable &v : m_.variables)
-      v.fixed = false;
-    m_.initialEquations.clear();
-  }
   for (size_t i = 0; i < out_.modeDiscrete.size(); ++i)
     out_.modeValues.push_back(given.size() == mode.size()
                                   ? given[i]
