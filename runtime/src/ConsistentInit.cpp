@@ -230,6 +230,9 @@ namespace {
 
 enum class Mode { Jumps, Nearest };
 
+/// Entries of an orthonormal direction basis below this are round-off.
+constexpr double kBasisRoundOff = 1e-12;
+
 struct StepResult {
   bool solvable = true; // the linearized conditions have a solution
   bool converged = false;
@@ -303,6 +306,14 @@ public:
           Bd(freeDiff[c], B.cols() + c) = 1;
         B = numeric::rangeBasis(Bd, 1e-10);
       }
+      // The SVDs leave round-off (1e-16) on coordinates the directions do
+      // not touch, held ones included; a row that only such coordinates
+      // could change would then look reachable and its round-off residual
+      // unsolvable (the pendulum with x and vx fixed). Exact zeros there.
+      for (int i = 0; i < n_; ++i)
+        for (Eigen::Index c = 0; c < B.cols(); ++c)
+          if (c_.isHeld(i) || std::fabs(B(i, c)) < kBasisRoundOff)
+            B(i, c) = 0;
     } else {
       B = U;
     }

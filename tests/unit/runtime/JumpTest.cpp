@@ -223,3 +223,22 @@ TEST(JumpRule, LargeIndexOneModelAfterAnEventIsSparse) {
   EXPECT_NE(log.str().find("'z1' from 1 to 3"), std::string::npos)
       << log.str();
 }
+
+TEST(JumpRule, HeldCoordinatesLeaveNoRoundOffToSolve) {
+  // The pendulum at rest at 0.5 rad with x and u held (reinit targets, or
+  // fixed start values): T ∩ {x, u held} is lam and the dummies; the
+  // SVDs' round-off on the held coordinates must not make the position
+  // constraint look unsolvable (it would fall back to the nearest point).
+  const double th = 0.5;
+  ldae_model m = jumpmodels::dummyPendulum(th, 0, 0);
+  ModelEval ev(m, params(m));
+  std::vector<double> y(m.start_y, m.start_y + 7), yp(7, 0.0);
+  std::ostringstream log;
+  InitOutcome out = reinitializeAfterEvent(ev, 0, 0.0, y, yp, {0, 2}, &log);
+  ASSERT_TRUE(out.ok) << out.failure;
+  EXPECT_FALSE(out.nearestPoint) << log.str();
+  EXPECT_EQ(out.jumped, 2); // lam and the dummy der(v)
+  EXPECT_NEAR(out.y[4], 9.81 * std::cos(th), 1e-10);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(out.y[i], y[i]) << m.var_names[i];
+}
