@@ -212,7 +212,7 @@ struct CvodeIntegrator::Impl {
   SUNMatrix A = nullptr;
   SUNLinearSolver LS = nullptr;
   SUNNonlinearSolver NLS = nullptr;
-  double tstop = 0, rtol = 0;
+  double tstop = 0, rtol = 0, hmax = 0;
   int rootCount = 0;
   /// y' = f(t, y) at the current point, computed when first asked for.
   mutable std::vector<double> yp;
@@ -325,6 +325,7 @@ Expected<bool> CvodeIntegrator::create(double t0) {
   else
     LDAE_SUNDIALS_CHECK(CVodeSVtolerances(I.mem, I.rtol, I.atol));
   LDAE_SUNDIALS_CHECK(CVodeSetStopTime(I.mem, I.tstop));
+  LDAE_SUNDIALS_CHECK(CVodeSetMaxStep(I.mem, I.hmax));
   const ldae_model &m = ev_.model();
   if (m.n_roots > 0 && m.roots)
     LDAE_SUNDIALS_CHECK(CVodeRootInit(I.mem, m.n_roots, rootFn));
@@ -440,6 +441,12 @@ StepStatus CvodeIntegrator::completeStart(double) {
   }
   I.ypValid = true;
   return {};
+}
+
+Expected<bool> CvodeIntegrator::setMaxStep(double hmax) {
+  impl_->hmax = hmax; // a new CVODE (switchToBdf) gets it too
+  LDAE_SUNDIALS_CHECK(CVodeSetMaxStep(impl_->mem, hmax));
+  return true;
 }
 
 Expected<bool> CvodeIntegrator::setStopTime(double tstop) {

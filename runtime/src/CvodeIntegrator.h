@@ -35,6 +35,7 @@ public:
   /// implicit model's start is projected onto its constraints first).
   StepStatus completeStart(double tout1) override;
   Expected<bool> setStopTime(double tstop) override;
+  Expected<bool> setMaxStep(double hmax) override;
   StepStatus step(double &tret) override;
   Expected<bool> interpolate(double t, double *y, double *yp) override;
   const double *y() const override;

@@ -15,10 +15,14 @@ namespace {
 constexpr int kMaxIterations = 100;
 /// Chattering: more than this many events ...
 constexpr size_t kChatterEvents = 50;
-/// ... within this span relative to 1 + |t|; also the span below which the
-/// predicted remaining time of a geometric accumulation (Zeno) counts as
-/// reached.
-constexpr double kChatterSpan = 1e-9;
+/// ... within this span relative to 1 + |t|. Not 1e-9: a condition that
+/// switches itself back is seen again only after the integrator's first
+/// step from the restart (crossings within round-off do not count,
+/// RootWatch.h), some 1e-10 s.
+constexpr double kChatterSpan = 1e-6;
+/// The span relative to 1 + |t| below which the predicted remaining time
+/// of a geometric accumulation (Zeno) counts as reached.
+constexpr double kZenoSpan = 1e-9;
 /// Zeno: this many consecutive events with a reinit, spaced ever closer.
 constexpr size_t kZenoEvents = 12;
 
@@ -164,7 +168,7 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
                                 const Reinitialize &reinit) {
   const int nr = std::max(m_.n_reinit, 0), nt = std::max(m_.n_terminate, 0);
   double *cur = ev_.discrete();
-  std::vector<double> before = y;
+  std::vector<double> before = y, entry(cur, cur + nd_);
   std::vector<bool> changedAny(nd_, false), changed(nd_);
   std::vector<double> fired(nr, std::numeric_limits<double>::quiet_NaN());
   bool visible = false;
@@ -226,6 +230,16 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
   }
   if (!visible && terminated.empty() && !modeChanged())
     return EventOutcome::Unchanged;
+  // Back where it started (an ideal diode at its switching point, where
+  // the new mode's relation reads round-off and switches back): the
+  // integrator was restarted, but nothing happened.
+  bool net = std::any_of(fired.begin(), fired.end(),
+                         [](double v) { return !std::isnan(v); }) ||
+             !terminated.empty();
+  for (int k = 0; k < nd_; ++k)
+    net |= differs(entry[k], cur[k]);
+  if (!net)
+    return EventOutcome::Restarted;
   noteJump(t, before, y);
   recent_.push_back({t, changedAny, fired});
   if (recent_.size() > kChatterEvents + 1)
@@ -244,7 +258,7 @@ EventOutcome EventLoop::checkAccumulation(double t, std::vector<double> &y,
   for (size_t r = 0; r < fired.size(); ++r)
     if (!std::isnan(fired[r]))
       reinitScale_[r] = std::max(reinitScale_[r], std::fabs(fired[r]));
-  double span = kChatterSpan * (1 + std::fabs(t));
+  double span = kZenoSpan * (1 + std::fabs(t));
   std::vector<const Recent *> withReinit;
   for (const Recent &e : recent_)
     if (std::any_of(e.reinits.begin(), e.reinits.end(),
@@ -316,8 +330,8 @@ EventOutcome EventLoop::checkAccumulation(double t, std::vector<double> &y,
         vanishing &= !std::isnan(a.reinits[k]) &&
                      std::fabs(b.reinits[k]) < std::fabs(a.reinits[k]);
   }
-  bool chatter =
-      recent_.size() > kChatterEvents && t - recent_.front().t < span;
+  bool chatter = recent_.size() > kChatterEvents &&
+                 t - recent_.front().t < kChatterSpan * (1 + std::fabs(t));
   if (!zeno && !chatter)
     return EventOutcome::Handled;
   std::vector<bool> which(nd_, false);
@@ -407,7 +421,7 @@ EventOutcome EventLoop::handle(double t, std::vector<double> &y,
       return EventOutcome::Failed;
     }
   }
-  if (out != EventOutcome::Unchanged) {
+  if (out != EventOutcome::Unchanged && out != EventOutcome::Restarted) {
     ++events_;
     timeEvents_ += timeEvent;
   }
@@ -420,7 +434,9 @@ EventOutcome EventLoop::resume(double t, std::vector<double> &y,
   std::copy(ev_.discrete(), ev_.discrete() + nd_, ev_.pre());
   EventOutcome out = iterate(t, y, yp, reinit);
   // Counted in the old mode already.
-  return out == EventOutcome::Unchanged ? EventOutcome::Handled : out;
+  return out == EventOutcome::Unchanged || out == EventOutcome::Restarted
+             ? EventOutcome::Handled
+             : out;
 }
 
 bool EventLoop::terminal(double t, const double *y, const double *yp) {

@@ -28,6 +28,8 @@ using Reinitialize = std::function<bool(
 /// What an event ended in.
 enum class EventOutcome {
   Unchanged,  ///< a root that changes nothing: no event, no restart
+  Restarted,  ///< the iteration came back to the discrete values it
+              ///< started from: no event, but the integrator restarted
   Handled,    ///< discrete values changed; the integrator was restarted
   Terminated, ///< terminate() fired: the run ends here (status 0)
   ModeChange, ///< a mode value changed: the run needs another model

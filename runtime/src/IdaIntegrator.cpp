@@ -170,7 +170,8 @@ Expected<bool> IdaIntegrator::init(int set, double t0, const double *y,
   I.mem = IDACreate(I.ctx);
   if (!I.mem)
     return Error{"internal error: IDACreate failed"};
-  LDAE_SUNDIALS_CHECK(IDASetErrHandlerFn(I.mem, sundials::keepMessage, &shared_));
+  LDAE_SUNDIALS_CHECK(
+      IDASetErrHandlerFn(I.mem, sundials::keepMessage, &shared_));
   LDAE_SUNDIALS_CHECK(IDAInit(I.mem, residualFn, t0, I.y, I.yp));
   LDAE_SUNDIALS_CHECK(IDASetUserData(I.mem, &shared_));
   shared_.t = t0;
@@ -211,7 +212,8 @@ Expected<bool> IdaIntegrator::setupLinearSolver() {
   if (I.LS && !sparse && !sparse_) {
     // Dense to dense: the matrix and solver stay; only the Jacobian source
     // changes (IDA's difference quotients when the set has none).
-    LDAE_SUNDIALS_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
+    LDAE_SUNDIALS_CHECK(
+        IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
     return true;
   }
   // A new matrix (the sparse pattern may differ between sets): build the
@@ -240,7 +242,8 @@ Expected<bool> IdaIntegrator::setupLinearSolver() {
   if (sparse)
     LDAE_SUNDIALS_CHECK(IDASetJacFn(I.mem, sparseJacFn));
   else
-    LDAE_SUNDIALS_CHECK(IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
+    LDAE_SUNDIALS_CHECK(
+        IDASetJacFn(I.mem, s.jacobian_dense ? denseJacFn : nullptr));
   return true;
 }
 
@@ -298,6 +301,11 @@ StepStatus IdaIntegrator::completeStart(double tout1) {
 Expected<bool> IdaIntegrator::setStopTime(double tstop) {
   impl_->tstop = tstop;
   LDAE_SUNDIALS_CHECK(IDASetStopTime(impl_->mem, tstop));
+  return true;
+}
+
+Expected<bool> IdaIntegrator::setMaxStep(double hmax) {
+  LDAE_SUNDIALS_CHECK(IDASetMaxStep(impl_->mem, hmax));
   return true;
 }
 

@@ -23,6 +23,7 @@ public:
   /// IDACalcIC(IDA_YA_YDP_INIT).
   StepStatus completeStart(double tout1) override;
   Expected<bool> setStopTime(double tstop) override;
+  Expected<bool> setMaxStep(double hmax) override;
   StepStatus step(double &tret) override;
   Expected<bool> interpolate(double t, double *y, double *yp) override;
   const double *y() const override;

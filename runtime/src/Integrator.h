@@ -24,11 +24,11 @@ enum class FailureKind {
   Convergence,     // the nonlinear iteration failed repeatedly
   LinearSetup,     // the iteration matrix is singular
   LinearSolve,
-  Domain,          // an equation left its domain and smaller steps did not help
-  RootFunction,    // an event condition could not be evaluated
-  NoStart,         // no consistent initial point
-  StepCollapsed,   // our own: steps at round-off level while the solver goes on
-  Overflow,        // the trial points or their derivatives were not finite
+  Domain,        // an equation left its domain and smaller steps did not help
+  RootFunction,  // an event condition could not be evaluated
+  NoStart,       // no consistent initial point
+  StepCollapsed, // our own: steps at round-off level while the solver goes on
+  Overflow,      // the trial points or their derivatives were not finite
   Other,
 };
 
@@ -74,6 +74,10 @@ public:
   virtual StepStatus completeStart(double tout1) = 0;
   /// The time no step may pass (the stop time, later time events).
   virtual Expected<bool> setStopTime(double tstop) = 0;
+  /// The longest step (0: no limit), kept over restarts: root functions
+  /// are only compared at step ends, so a relation that crosses and
+  /// crosses back within one long step would be missed.
+  virtual Expected<bool> setMaxStep(double hmax) = 0;
   /// One internal step towards the stop time.
   virtual StepStatus step(double &tret) = 0;
   /// y and y' at t within the last step, from the interpolating polynomial

@@ -10,6 +10,7 @@
 #include "Integrator.h"
 #include "Progress.h"
 #include "ResultWriter.h"
+#include "RootWatch.h"
 #include "SparseInit.h"
 #include "StateSelection.h"
 #include "ldae/Simulation.h"
@@ -578,6 +579,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   AssertChecker asserts(ev, o_.log);
   Recorder rec(ev, cols, res_, &asserts);
   EventLoop events(ev, s_.rtol, o_.log);
+  RootWatch watch(ev);
   const int n = m.n;
   const double span = s_.stop - s_.start;
   double t = fromStart ? s_.start : carry.t;
@@ -661,6 +663,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   auto concluded = [&](EventOutcome out) -> std::optional<StageEnd> {
     switch (out) {
     case EventOutcome::Unchanged:
+    case EventOutcome::Restarted:
     case EventOutcome::Handled:
       return std::nullopt;
     case EventOutcome::ModeChange:
@@ -702,6 +705,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     return done(*end);
   if (!rec.record(t, y.data(), yp.data()) || span <= 0)
     return done(StageEnd::Done);
+  watch.restarted(t, y.data(), yp.data());
 
   // The integrator steps freely up to the stop time or the next time
   // event; output times it steps over are interpolated from the last
@@ -718,6 +722,14 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   };
   if (!aimAtNextEvent())
     return done(StageEnd::Done);
+  // A relation is watched at step ends only: no step longer than the
+  // output interval, so that one crossing and crossing back within it
+  // (sin(2 pi t) > 0.5 for a third of each period) is seen.
+  if (events.handlesRoots() && m.n_roots > 0)
+    if (auto capped = ida.setMaxStep(s_.interval); !capped) {
+      res_.failure = describeSolverError(t, capped.error());
+      return done(StageEnd::Done);
+    }
   int tinySteps = 0; // consecutive steps at round-off level
   long stepsSinceOutput = 0;
   std::vector<double> yAt(n), ypAt(n), cond;
@@ -760,7 +772,12 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       return done(StageEnd::Done);
     bool timeEvent = st.kind == StepStatus::StopReached && t >= nextEvent;
     bool rootEvent = st.kind == StepStatus::Root && events.handlesRoots();
-    if (st.kind == StepStatus::Root && !rootEvent && o_.log) {
+    bool forced = false; // a crossing ignored as round-off was real
+    if (rootEvent && watch.withinRoundOff(ida.rootsFound()))
+      rootEvent = false;
+    else if (!rootEvent && events.handlesRoots())
+      forced = watch.stepped(t, ida.y(), ida.yp());
+    if (st.kind == StepStatus::Root && !events.handlesRoots() && o_.log) {
       std::vector<int> found = ida.rootsFound();
       for (size_t r = 0; r < found.size(); ++r)
         if (found[r])
@@ -768,7 +785,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
                                  "zero\n",
                                  t, r + 1);
     }
-    if (timeEvent || rootEvent) {
+    if (timeEvent || rootEvent || forced) {
       // The row just before the event (unless a grid row is at t), kept
       // only when the event changes something.
       y.assign(ida.y(), ida.y() + n);
@@ -784,10 +801,14 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       if (out == EventOutcome::Unchanged) {
         res_.rows.resize(rows);
         t = tRoot; // the integrator goes on from where it stopped
+      } else if (out == EventOutcome::Restarted) {
+        res_.rows.resize(rows);
       } else if (auto end = concluded(out))
         return done(*end);
       else if (!rec.record(t, y.data(), yp.data()))
         return done(StageEnd::Done);
+      if (out != EventOutcome::Unchanged)
+        watch.restarted(t, y.data(), yp.data());
       if ((timeEvent || out != EventOutcome::Unchanged) && !aimAtNextEvent())
         return done(StageEnd::Done);
       stepsSinceOutput = 0;

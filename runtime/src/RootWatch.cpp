@@ -1,0 +1,71 @@
+// Crossings within round-off (see RootWatch.h).
+#include "RootWatch.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ldae::runtime {
+
+namespace {
+/// The floor relative to the root function's largest magnitude in the run:
+/// far above round-off of values of that size (1e-16), far below what any
+/// tolerance resolves.
+constexpr double kFloor = 1e-13;
+} // namespace
+
+RootWatch::RootWatch(const ModelEval &ev)
+    : ev_(ev), nr_(std::max(ev.model().n_roots, 0)), g_(nr_), scale_(nr_, 0.0),
+      excursion_(nr_, 0.0), atRestart_(nr_, 0.0), pending_(nr_, false) {}
+
+bool RootWatch::evaluate(double t, const double *y, const double *yp) {
+  const ldae_model &m = ev_.model();
+  if (nr_ == 0 || !m.roots || m.roots(t, y, yp, ev_.params(), g_.data()) != 0)
+    return false;
+  for (int j = 0; j < nr_; ++j) {
+    scale_[j] = std::max(scale_[j], std::fabs(g_[j]));
+    excursion_[j] = std::max(excursion_[j], std::fabs(g_[j]));
+  }
+  return true;
+}
+
+void RootWatch::restarted(double t, const double *y, const double *yp) {
+  std::fill(excursion_.begin(), excursion_.end(), 0.0);
+  std::fill(pending_.begin(), pending_.end(), false);
+  if (evaluate(t, y, yp))
+    atRestart_ = g_;
+}
+
+bool RootWatch::stepped(double t, const double *y, const double *yp) {
+  if (std::none_of(pending_.begin(), pending_.end(), [](bool b) { return b; }))
+    return evaluate(t, y, yp) && false;
+  if (!evaluate(t, y, yp))
+    return false;
+  bool due = false;
+  for (int j = 0; j < nr_; ++j) {
+    if (!pending_[j] || std::fabs(g_[j]) <= kFloor * scale_[j])
+      continue;
+    pending_[j] = false;
+    // Back on the side it started from: the crossings were round-off.
+    due |= !(g_[j] * atRestart_[j] > 0);
+  }
+  return due;
+}
+
+bool RootWatch::withinRoundOff(const std::vector<int> &found) {
+  bool all = true, any = false;
+  for (int j = 0; j < nr_ && j < int(found.size()); ++j) {
+    if (found[j] == 0)
+      continue;
+    any = true;
+    if (excursion_[j] > kFloor * scale_[j] || scale_[j] == 0)
+      all = false;
+  }
+  if (!any || !all)
+    return false;
+  for (int j = 0; j < nr_ && j < int(found.size()); ++j)
+    if (found[j] != 0)
+      pending_[j] = true;
+  return true;
+}
+
+} // namespace ldae::runtime

@@ -1,0 +1,42 @@
+// Tells the zero crossings of relations from round-off (docs/events.md,
+// "Crossings within round-off"). At an ideal diode's switching point the
+// new mode's relation reads a value that is zero to its second order
+// (v = vs - vc leaves 0 with zero slope) and its sign is round-off for a
+// while: the root finder would report crossings of 1e-20 V back and forth.
+// A crossing counts only after the root function has been away from zero by
+// more than a floor (kFloor times the largest |g| of that root seen in the
+// run) since the last event; a crossing ignored that way is made up for when
+// the root function leaves the floor on the other side (an event forced at
+// that step), so that no real change of sign is lost.
+#pragma once
+
+#include "ModelEval.h"
+
+#include <vector>
+
+namespace ldae::runtime {
+
+class RootWatch {
+public:
+  explicit RootWatch(const ModelEval &ev);
+
+  /// After a step to (t, y, y'): whether an ignored crossing turned out to
+  /// be real (the root function beyond the floor on the other side of the
+  /// last event's): an event is due at t.
+  bool stepped(double t, const double *y, const double *yp);
+  /// At a root return: whether every root found (`found`, the integrator's
+  /// root info) is a crossing within round-off, to be ignored.
+  bool withinRoundOff(const std::vector<int> &found);
+  /// After an event or a restart at (t, y, y'): the excursions start again.
+  void restarted(double t, const double *y, const double *yp);
+
+private:
+  bool evaluate(double t, const double *y, const double *yp);
+
+  const ModelEval &ev_;
+  int nr_;
+  std::vector<double> g_, scale_, excursion_, atRestart_;
+  std::vector<bool> pending_; // a crossing was ignored since the restart
+};
+
+} // namespace ldae::runtime
