@@ -140,6 +140,10 @@ private:
   std::vector<double> out_, drift_;
 };
 
+/// The most mode switches at one time (one event iteration across the
+/// modes' models; EventLoop allows 100 updates within one model).
+constexpr int kMaxModeSwitchesAtOnce = 100;
+
 /// The most steps between two output times (of the interval grid, also
 /// with --every-step or explicit times): a solution that blows up or
 /// oscillates ever faster would otherwise step for ever (the solvers'
@@ -908,6 +912,11 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   const ldae_model *model = &m;
   std::vector<double> p = *params;
   Carry carry;
+  // Mode switches at one time continue one event iteration: the same
+  // limit of updates (an ideal diode whose conditions read round-off at
+  // its switching point would switch for ever).
+  int switchesHere = 0;
+  double switchTime = NAN;
   while (true) {
     auto end = run.stage(*model, p, cols, carry);
     if (!end)
@@ -949,6 +958,15 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     p = *np;
     cols = nextCols;
     ++res.stats.modeSwitches;
+    switchesHere = carry.t == switchTime ? switchesHere + 1 : 1;
+    switchTime = carry.t;
+    if (switchesHere > kMaxModeSwitchesAtOnce) {
+      res.failure = fmt::format(
+          "the event iteration at t = {:.10g} switched modes {} times "
+          "without settling; the mode values that keep changing: {}",
+          carry.t, kMaxModeSwitchesAtOnce, carry.mode);
+      break;
+    }
     if (o.log)
       *o.log << fmt::format("t = {:.10g}: mode switch ({})\n", carry.t,
                             carry.mode);
