@@ -25,7 +25,10 @@ namespace ldae::passes {
 /// written), and where a later pass rewrites the rows (causalize: its
 /// substitutions through differentiated rows change which column an
 /// equation's derivative is on) or may drop some (prune, with requested
-/// outputs): the runtime then uses the reduced set's own pencil.
+/// outputs): the runtime then uses the reduced set's own pencil. Where
+/// jumps matter (PassContext::jumpsMatter: the alias pass kept aliases
+/// whose values may differ) those passes stand aside and the tables are
+/// filled.
 void fillJumpPencil(const PassContext &pc, const MatchingResult &mr,
                     const IndexReduction &red, const DummyChoices &dc,
                     ir::DaeSystem &sys);
