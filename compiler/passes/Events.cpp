@@ -88,6 +88,41 @@ ir::ExprRef solveLinear(ir::ExprContext &ctx, ir::ExprRef r, ir::VarId v) {
   return ctx.div(ctx.neg(r0), a);
 }
 
+/// The slots in an order where each comes after those it reads (except
+/// the reads in `current`), in `order`; or, where there is none, a cycle
+/// (its first slot repeated at its end).
+std::vector<size_t>
+topologicalOrder(const std::vector<std::vector<size_t>> &reads,
+                 const std::vector<std::set<size_t>> &current,
+                 std::vector<size_t> &order) {
+  const size_t K = reads.size();
+  std::vector<int> state(K, 0); // 0 new, 1 on the stack, 2 done
+  std::vector<size_t> stack, cycle;
+  order.clear();
+  std::function<bool(size_t)> visit = [&](size_t k) {
+    if (state[k] == 2)
+      return true;
+    if (state[k] == 1) {
+      cycle.assign(std::find(stack.begin(), stack.end(), k), stack.end());
+      cycle.push_back(k);
+      return false;
+    }
+    state[k] = 1;
+    stack.push_back(k);
+    for (size_t j : reads[k])
+      if (!current[k].count(j) && !visit(j))
+        return false;
+    stack.pop_back();
+    state[k] = 2;
+    order.push_back(k);
+    return true;
+  };
+  for (size_t k = 0; k < K; ++k)
+    if (!visit(k))
+      return cycle;
+  return {};
+}
+
 class EventBuilder {
 public:
   EventBuilder(PassContext &pc, EventResult &out)
@@ -459,47 +494,53 @@ bool EventBuilder::buildUpdate() {
           !isInput(slots_[p - out_.base].kind))
         reads[k].push_back(p - out_.base);
   }
-  std::vector<int> state(K, 0); // 0 new, 1 on the stack, 2 done
-  std::vector<size_t> order, stack;
-  std::function<bool(size_t)> visit = [&](size_t k) {
-    if (state[k] == 2)
-      return true;
-    if (state[k] == 1) {
-      std::vector<std::string> names;
-      auto it = std::find(stack.begin(), stack.end(), k);
-      auto text = [&](size_t j) {
-        auto d = definedBy_.find(j);
-        return "'" + (d != definedBy_.end() ? d->second : slots_[j].name) +
-               "'";
-      };
-      for (; it != stack.end(); ++it)
-        names.push_back(text(*it));
-      names.push_back(text(k));
-      std::string cycle;
-      for (size_t i = 0; i < names.size(); ++i)
-        cycle += (i ? " -> " : "") + names[i];
-      pc_.diags.report(DiagId::ErrDiscreteCycle, m_.loc, {cycle});
-      return false;
+  // A cycle through a when-branch (`when time >= tnext then tnext =
+  // pre(tnext) + 1`) is the event iteration's: the branch's condition reads
+  // the current value of what follows it in the cycle, and the next
+  // iteration sees the new one. A cycle of discrete equations alone has
+  // no value: an error naming them.
+  std::vector<std::set<size_t>> current(K); // reads of current values
+  std::vector<size_t> order;
+  for (;;) {
+    std::vector<size_t> cycle = topologicalOrder(reads, current, order);
+    if (cycle.empty())
+      break;
+    auto when = std::find_if(cycle.begin(), cycle.end() - 1, [&](size_t j) {
+      return slots_[j].kind == ir::DiscreteKind::When;
+    });
+    if (when != cycle.end() - 1) {
+      current[*when].insert(*(when + 1));
+      continue;
     }
-    state[k] = 1;
-    stack.push_back(k);
-    for (size_t j : reads[k])
-      if (!visit(j))
-        return false;
-    stack.pop_back();
-    state[k] = 2;
-    order.push_back(k);
-    return true;
-  };
-  for (size_t k = 0; k < K; ++k)
-    if (!visit(k))
-      return false;
+    std::string text;
+    for (size_t j : cycle) {
+      auto d = definedBy_.find(j);
+      text += (text.empty() ? "'" : " -> '") +
+              (d != definedBy_.end() ? d->second : slots_[j].name) + "'";
+    }
+    pc_.diags.report(DiagId::ErrDiscreteCycle, m_.loc, {text});
+    return false;
+  }
   if (!ok)
     return false;
-  ir::Substitution inl(ctx_);
+  // A read of a current value is kept out of the inlining by a stand-in
+  // (a ParamId no expression uses) put back afterwards.
+  auto standIn = [&](size_t j) {
+    return ctx_.param(out_.pre(0) + static_cast<ir::ParamId>(K + j));
+  };
+  ir::Substitution inl(ctx_), back(ctx_);
+  for (size_t j = 0; j < K; ++j)
+    back.set(standIn(j), cur(j));
   out_.update.assign(K, nullptr);
   for (size_t k : order) {
-    out_.update[k] = inl.apply(def_[k]);
+    ir::ExprRef d = def_[k];
+    if (!current[k].empty()) {
+      ir::Substitution hold(ctx_);
+      for (size_t j : current[k])
+        hold.set(cur(j), standIn(j));
+      d = hold.apply(d);
+    }
+    out_.update[k] = back.apply(inl.apply(d));
     if (!isInput(slots_[k].kind))
       inl.set(cur(k), out_.update[k]);
   }

@@ -274,6 +274,41 @@ end TwoCaps;)";
   EXPECT_EQ(closed.result.dof, 1); // v1 = v2 ties the capacitors
 }
 
+TEST(Events, WhenReadsItsTarget) {
+  Compiled c = compile(R"(
+model Clock
+  Real x(start = 0, fixed = true);
+  discrete Real tnext(start = 0.25);
+  Integer ticks(start = 0);
+equation
+  der(x) = 1;
+  when time >= tnext then
+    tnext = pre(tnext) + 0.25;
+    ticks = pre(ticks) + 1;
+  end when;
+end Clock;)");
+  ASSERT_TRUE(c.ok) << c.messages;
+  const ir::DaeSystem &sys = c.sys();
+  ASSERT_EQ(sys.events.timeThresholds.size(), 1u);
+  EXPECT_EQ(eval(sys, sys.events.timeThresholds[0], {.cur = {{"tnext", 0.5}}}),
+            0.5);
+  // At t = 0.5 with tnext = 0.5: the branch fires, tnext moves on; the
+  // relation reads the new tnext, the when-condition the current one.
+  Point at{.time = 0.5,
+           .cur = {{"tnext", 0.5}},
+           .pre = {{"tnext", 0.5}, {"ticks", 1}}};
+  EXPECT_EQ(update(c, "tnext", at), 0.75);
+  EXPECT_EQ(update(c, "ticks", at), 2);
+  EXPECT_EQ(update(c, "time >= tnext", at), 0);
+  EXPECT_EQ(update(c, "when time >= tnext", at), 1);
+  // The next iteration: its pre() is 1, nothing fires again.
+  at.cur["tnext"] = at.pre["tnext"] = 0.75;
+  at.pre["when time >= tnext"] = 1;
+  at.pre["ticks"] = 2;
+  EXPECT_EQ(update(c, "tnext", at), 0.75);
+  EXPECT_EQ(update(c, "ticks", at), 2);
+}
+
 TEST(Events, Diagnostics) {
   Compiled cycle = compile(R"(
 model Cycle
