@@ -20,11 +20,19 @@ ModeCompiler::ModeCompiler(const ir::Model &flat,
                            DiagnosticEngine &diags)
     : flat_(flat), passOpts_(std::move(passOpts)), cgOpts_(std::move(cgOpts)),
       diags_(diags) {
+  // A mode the run reaches starts from the point the run carries over
+  // (the jump rule, reinit values held), not from the start values: fixed
+  // start values and initial equations are conditions of the start only,
+  // and would contradict a mode that ties them (two capacitors joined).
+  for (ir::Variable &v : flat_.variables)
+    v.fixed = false;
+  flat_.initialEquations.clear();
   // A mode's report is not printed, and its printing of passes would
   // repeat the first mode's.
   passOpts_.reportOnly = false;
   passOpts_.printAfter.clear();
   passOpts_.timePasses = false;
+  passOpts_.keepStateAliases = true;
 }
 
 Expected<const ldae_model *>

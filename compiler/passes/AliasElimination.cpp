@@ -302,6 +302,28 @@ int AliasEliminator::eliminateOnce() {
   std::vector<char> classReinit(nv, 0);
   for (size_t v = 0; v < nv; ++v)
     classReinit[v] = reinitTarget[v];
+  // Two differentiated variables tied by `a = ±b` (capacitors in parallel,
+  // rigidly joined inertias) stay apart where their values may differ
+  // before the start or a mode change: the start must then jump by the
+  // rule of LANGUAGE.md ("Initial values"), along T(E, F) of the model as
+  // written, which weighs both (charge, momentum conserved). Merged, one
+  // start value would win. Index reduction handles the tie instead.
+  std::vector<char> classDiff(nv, 0);
+  std::vector<std::optional<double>> classStart(nv); // in the root's sign
+  for (size_t v = 0; v < nv; ++v) {
+    classDiff[v] = maxOrder[v] > 0;
+    if (m.variables[v].hasStart)
+      classStart[v] = m.variables[v].start;
+  }
+  auto mayDiffer = [&](ir::VarId ra, ir::VarId rb, double sign) {
+    if (!classDiff[ra] || !classDiff[rb])
+      return false;
+    if (pc.opts.keepStateAliases)
+      return true;
+    return classStart[ra] && classStart[rb] &&
+           std::fabs(*classStart[ra] - sign * *classStart[rb]) >
+               1e-12 * (1 + std::fabs(*classStart[ra]));
+  };
   std::vector<char> removeEq(m.equations.size(), 0);
   for (const AliasEquation &ae : found) {
     auto [ra, sa] = uf.find(ae.a);
@@ -316,8 +338,16 @@ int AliasEliminator::eliminateOnce() {
         continue;
       // sa_eq*a + sb_eq*b = 0 with a = sa*ra, b = sb*rb:
       // ra = -(sb_eq*sb)/(sa_eq*sa) * rb.
+      double sign = -(ae.sb * sb) / (ae.sa * sa);
+      if (mayDiffer(ra, rb, sign)) {
+        pc.jumpsMatter = true;
+        continue;
+      }
       uf.parent[ra] = rb;
-      uf.sign[ra] = -(ae.sb * sb) / (ae.sa * sa);
+      uf.sign[ra] = sign;
+      classDiff[rb] = classDiff[rb] || classDiff[ra];
+      if (!classStart[rb] && classStart[ra])
+        classStart[rb] = *classStart[ra] / sign;
       if (classConst[ra])
         classConst[rb] = ctx.mul(ctx.constant(uf.sign[ra]), classConst[ra]);
       classReinit[rb] = classReinit[rb] || classReinit[ra];

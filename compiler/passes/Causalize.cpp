@@ -542,7 +542,7 @@ public:
   bool runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt,
              CausalResult &out) {
     CausalizeOptions opts;
-    opts.enabled = ctx.opts.causalize;
+    opts.enabled = ctx.opts.causalize && !ctx.jumpsMatter;
     opts.sources = &ctx.diags.sources();
     causalize(sys, opts, out);
     ctx.report.causal = out;

@@ -27,7 +27,7 @@ void fillJumpPencil(const PassContext &pc, const MatchingResult &mr,
                     ir::DaeSystem &sys) {
   sys.dummyOf.clear();
   sys.originalRow.clear();
-  if (pc.opts.causalize || !pc.opts.outputs.empty())
+  if (!pc.jumpsMatter && (pc.opts.causalize || !pc.opts.outputs.empty()))
     return;
   const size_t n = sys.unknowns.size();
   // Slots by the name build-system gives them: der(x) for order 1 of x,

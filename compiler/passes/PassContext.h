@@ -34,6 +34,12 @@ public:
   /// Set by a pass that has produced the final system by another route
   /// (sga-check): the passes after it do not run.
   bool finished = false;
+  /// The start or a change of mode may make states jump along T(E, F) of
+  /// the model as written (a mode reached during a run; differentiated
+  /// aliases kept because their start values differ): the system keeps
+  /// its rows as written, with no causal form and no pruning, so that the
+  /// runtime has that pencil (ldae_model::dummy_of, original_row).
+  bool jumpsMatter = false;
 
   /// Rank of each variable's name (by VarId): equal names rank equal, and
   /// ranks order like the names. Sorting by rank instead of by name

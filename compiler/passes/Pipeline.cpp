@@ -121,6 +121,7 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
     result.equations += ir::isDiscreteEquation(e.residual, discrete) ? 0 : 1;
 
   PassContext ctx(model, diags, opts, result);
+  ctx.jumpsMatter = opts.keepStateAliases;
   ResultStore results;
   bool ok = true;
   for (const std::unique_ptr<Pass> &pass : pipelineFor(opts.method)) {

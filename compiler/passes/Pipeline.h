@@ -38,6 +38,11 @@ struct PipelineOptions {
   /// branches of structure-changing if-equations (EventSystem::modeDiscrete
   /// order) to build the system for; empty: their start values.
   std::vector<double> modeValues;
+  /// Keep every alias between two differentiated variables as an equation
+  /// (a mode reached during a run: the values carried over may differ, and
+  /// the jump rule must see both). Otherwise kept only where their start
+  /// values differ.
+  bool keepStateAliases = false;
   /// Pass names after which the current state is printed to `log`.
   std::vector<std::string> printAfter;
   std::ostream *log = nullptr;

@@ -24,7 +24,7 @@ public:
 // The walk needs every unknown matched: --method raw, whose unreduced
 // system is singular above index one, does not run this pass.
 bool PrunePass::runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt) {
-  if (ctx.opts.outputs.empty() ||
+  if (ctx.opts.outputs.empty() || ctx.jumpsMatter ||
       blt.matchings.size() != sys.stateSets.size())
     return true;
   const size_t n = sys.unknowns.size();
