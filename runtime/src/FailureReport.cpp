@@ -324,6 +324,12 @@ std::string describeFailure(const ModelEval &ev, const Integrator &ida,
     for (int r : singularRows(ev, ida, t))
       msg += describeDomainRow(ev, ida.set(), r, ida.y(), t, ida.yp());
   msg += fmt::format("\n  hint: {}", text.hint);
+  // A system handed over as written whose index exceeds one (--method
+  // raw) is the likeliest cause of any failure, whatever its symptom.
+  if (ev.model().algebraic_error_test == 0 &&
+      std::string(text.hint).find("--method dd") == std::string::npos)
+    msg += "; the system is of index above one as written (--method raw): "
+           "try --method dd";
   return msg;
 }
 
