@@ -7,11 +7,11 @@
 
 namespace ldae::driver {
 
-bool mayChangeStructure(const ir::Model &flat) {
+const ir::Equation *firstVariableIf(const ir::Model &flat) {
   for (const ir::Equation &e : flat.equations)
     if (e.residual->kind() == ir::ExprKind::If)
-      return true;
-  return false;
+      return &e;
+  return nullptr;
 }
 
 ModeCompiler::ModeCompiler(const ir::Model &flat,

@@ -17,10 +17,11 @@
 
 namespace ldae::driver {
 
-/// Whether an equation of `flat` is an if-equation on a condition that is
-/// not known at compile time (the frontend merges one into a residual
-/// `if c then r1 else r2`): only then can a mode change the structure.
-bool mayChangeStructure(const ir::Model &flat);
+/// The first equation of `flat` that is an if-equation on a condition not
+/// known at compile time (the frontend merges one into a residual
+/// `if c then r1 else r2`), or null: only then can a mode change the
+/// structure.
+const ir::Equation *firstVariableIf(const ir::Model &flat);
 
 class ModeCompiler {
 public:

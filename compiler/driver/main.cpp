@@ -127,8 +127,12 @@ static int run(int argc, char **argv) {
   // A model whose if-equations may change its structure keeps its flat
   // form: the run compiles each further mode from it when first reached.
   std::optional<ir::Model> flat;
-  if (opts.simulate && driver::mayChangeStructure(*model))
-    flat.emplace(*model);
+  std::optional<SourceLoc> variableIf;
+  if (const ir::Equation *e = driver::firstVariableIf(*model)) {
+    variableIf = e->loc;
+    if (opts.simulate)
+      flat.emplace(*model);
+  }
   stageStart = std::chrono::steady_clock::now();
   bool analyzed = passes::runPipeline(*model, passOpts, diags, analysis);
   if (opts.timePasses)
@@ -156,15 +160,12 @@ static int run(int argc, char **argv) {
   else
     cgOpts.jit = opts.jit == "on";
   cgOpts.sources = &sources;
-  if (opts.emit == "c" && !analysis.system->events.modeDiscrete.empty())
-    // Each further mode is compiled when the run reaches it, which a
-    // program without the compiler cannot do.
-    return reportError(diags, DiagId::ErrCodegenFailed,
-                       "a variable-structure model (an if-equation whose "
-                       "branches differ in what they determine) cannot be "
-                       "emitted as C: its other modes are compiled when a "
-                       "run reaches them; simulate it with ldaec",
-                       1);
+  if (opts.emit == "c" && !analysis.system->events.modeDiscrete.empty()) {
+    diags.report(DiagId::ErrVariableStructureC,
+                 variableIf.value_or(SourceLoc{}));
+    diags.flush(std::cerr);
+    return 1;
+  }
   if (opts.emit == "llvm" || opts.emit == "c") {
     Expected<std::string> text =
         opts.emit == "llvm"

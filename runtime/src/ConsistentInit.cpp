@@ -564,4 +564,21 @@ InitOutcome reinitializeAfterEvent(const ModelEval &ev, int set, double t,
   return out;
 }
 
+void settleAlgebraic(const ModelEval &ev, int set, double t,
+                     std::vector<double> &y, std::vector<double> &yp) {
+  const int *diff = ev.set(set).is_differential;
+  std::vector<int> held;
+  for (int i = 0; i < ev.n(); ++i)
+    if (diff[i])
+      held.push_back(i);
+  if (held.size() == size_t(ev.n()))
+    return;
+  InitOutcome c = reinitializeAfterEvent(ev, set, t, y, yp, held, nullptr);
+  if (c.ok && !c.nearestPoint) {
+    y = c.y;
+    yp = c.yp;
+  }
+}
+
+
 } // namespace ldae::runtime

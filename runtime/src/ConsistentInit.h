@@ -128,4 +128,14 @@ void reportMoves(const ModelEval &ev, const std::vector<double> &before,
 int countMoves(const ModelEval &ev, const std::vector<double> &before,
                const double *after);
 
+/// At a root the integrator's point is its interpolating polynomial's, and
+/// an algebraic unknown's polynomial is not its equation: with the
+/// algebraic unknowns out of the error test (or a mode without states, an
+/// ideal diode conducting: c.v = vs(t)) it is off by far more than
+/// round-off (0.1 mV), and the event iteration would read that as a
+/// crossing. Makes (y, y') consistent at t with the differential values of
+/// state set `set` held (unchanged where that fails).
+void settleAlgebraic(const ModelEval &ev, int set, double t,
+                     std::vector<double> &y, std::vector<double> &yp);
+
 } // namespace ldae::runtime

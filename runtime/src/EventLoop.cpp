@@ -1,5 +1,6 @@
 // Event handling (see EventLoop.h and docs/events.md).
 #include "EventLoop.h"
+#include "ConsistentInit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -80,8 +81,39 @@ bool EventLoop::sampleInstant(int s, double t, const double *y,
 }
 
 bool EventLoop::update(double t, const double *y, const double *yp) {
-  return m_.event_update &&
-         m_.event_update(t, y, yp, ev_.params(), out_.data()) == 0;
+  if (!m_.event_update ||
+      m_.event_update(t, y, yp, ev_.params(), out_.data()) != 0)
+    return false;
+  // A change of mode is decided by the right limit: the discrete values
+  // just after t. At an ideal diode's turn-off the blocking mode's
+  // v = vs - vc is +1e-16 with zero slope, and `when v > 0` would switch it
+  // straight back for ever; just after t, v < 0. The point ahead is
+  // y + dt y' with the algebraic unknowns solved there; dt = sqrt(eps)
+  // (1 + |t|) takes a relation that leaves zero to second order well past
+  // round-off. The reinit values stay those at t.
+  auto changesMode = [&](const std::vector<double> &out) {
+    for (int i = 0; i < m_.n_mode; ++i)
+      if (differs(out[m_.mode_discrete[i]], m_.mode_values[i]))
+        return true;
+    return false;
+  };
+  if (m_.n_mode == 0 || !changesMode(out_))
+    return true;
+  const int n = ev_.n();
+  int set = 0;
+  for (int k = 0; k < m_.n_state_sets; ++k)
+    if (ev_.set(k).is_differential == states_)
+      set = k;
+  double dt = 1.4901161193847656e-08 * (1.0 + std::fabs(t));
+  std::vector<double> ahead(n), aheadYp(yp, yp + n), probe(out_.size());
+  for (int i = 0; i < n; ++i)
+    ahead[i] = y[i] + dt * yp[i];
+  settleAlgebraic(ev_, set, t + dt, ahead, aheadYp);
+  if (m_.event_update(t + dt, ahead.data(), aheadYp.data(), ev_.params(),
+                      probe.data()) == 0 &&
+      !changesMode(probe))
+    std::copy(probe.begin(), probe.begin() + nd_, out_.begin());
+  return true;
 }
 
 void EventLoop::setKind(int kind, double v) {

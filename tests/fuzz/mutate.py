@@ -39,7 +39,8 @@ STAGES = [
 # Texts that mean the process died rather than reported an error.
 ABORT_TEXTS = [
     "terminate called",
-    "Assertion",
+    "Assertion `",  # glibc's assert(); not the word in a message
+                     # ("AssertionLevel.error")
     "AddressSanitizer",
     "LeakSanitizer",
     "runtime error:",  # UBSan
