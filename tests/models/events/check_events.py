@@ -415,9 +415,9 @@ def rectifier(c, model, pieces):
     # Conducting, the IdealDiode's s is its current (vs - vc) / Ron: in
     # the error test (the default for an index-1 system) its tolerance,
     # carried onto c.v by the error weights, is 1/Ron = 1e5 times tighter,
-    # at round-off for 10 V, and IDA fails nearly every step (262,101
-    # steps, 260,945 error-test failures to t = 0.06 at rtol 1e-6, then a
-    # step-size collapse). The check is about the events.
+    # at round-off for 10 V, and IDA fails nearly every step (at rtol 1e-6:
+    # 262,487 steps, 260,909 error-test failures). The check is about the
+    # events.
     r = c.run(model, ["--rtol", "1e-10", "--atol", "1e-10", "--outputs",
                       "c.v,diode.i,diode.v", "--stats",
                       "--algebraic-error-test", "off"])
