@@ -551,6 +551,21 @@ StepStatus CvodeIntegrator::step(double &tret) {
   shared_.nonFinite = false;
   I.cb.singular = false;
   int flag = CVode(I.mem, I.tstop, I.y, &tret, CV_ONE_STEP);
+  if (flag == CV_ILL_INPUT && ev_.model().n_roots > 0 &&
+      shared_.message.find("cvRcheck2") != std::string::npos) {
+    // Restarted exactly on a root function's zero, and it is still zero
+    // (to round-off) a hair later: a slow relation just after its event
+    // (hysteresis: T = 294 K at T' = 7 K/s, rtol 1e-12). CVODE refuses
+    // to start its root search there; one step without roots moves off
+    // the zero, then the search starts again from that step.
+    // (The first step after a restart is short: a crossing inside it is
+    // the one price.)
+    if (CVodeRootInit(I.mem, 0, nullptr) < 0)
+      return StepStatus::failed(FailureKind::Other, "CVodeRootInit");
+    flag = CVode(I.mem, I.tstop, I.y, &tret, CV_ONE_STEP);
+    if (CVodeRootInit(I.mem, ev_.model().n_roots, rootFn) < 0)
+      return StepStatus::failed(FailureKind::Other, "CVodeRootInit");
+  }
   I.ypValid = false;
   I.yOnValid = false;
   if (flag < 0) {

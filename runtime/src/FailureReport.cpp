@@ -310,6 +310,9 @@ std::string describeFailure(const ModelEval &ev, const Integrator &ida,
   FailureText text = failureText(status.failure);
   std::string msg = fmt::format("simulation failed at t = {:.10g}: {} ({})", t,
                                 text.what, status.code);
+  // The solver's own words say most about a failure we have no name for.
+  if (status.failure == FailureKind::Other && !ida.solverMessage().empty())
+    msg += fmt::format("\n  the solver says: {}", ida.solverMessage());
   std::string worst = worstVariables(ev, ida);
   if (!worst.empty())
     msg += "\n  largest local errors: " + worst;
