@@ -86,7 +86,9 @@ void defineOptions(CLI::App &app, Options &o) {
                  "comma-separated variables to output (compiles only what "
                  "they need)");
   app.add_option("--plot", o.plotFile, "plot the outputs to .svg or .png");
-  app.add_flag("--stats", o.stats, "print solver statistics");
+  app.add_flag("--stats", o.stats,
+               "print solver statistics on stderr: steps, evaluations, "
+               "roots, events, time events, mode switches, jumps");
   app.add_flag("--no-progress", o.noProgress, "never show a progress bar");
   app.add_option("--jit", o.jit,
                  "on: compile with the LLVM JIT; off: run the plan "
