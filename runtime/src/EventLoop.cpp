@@ -100,15 +100,11 @@ bool EventLoop::update(double t, const double *y, const double *yp) {
   if (m_.n_mode == 0 || !changesMode(out_))
     return true;
   const int n = ev_.n();
-  int set = 0;
-  for (int k = 0; k < m_.n_state_sets; ++k)
-    if (ev_.set(k).is_differential == states_)
-      set = k;
   double dt = 1.4901161193847656e-08 * (1.0 + std::fabs(t));
   std::vector<double> ahead(n), aheadYp(yp, yp + n), probe(out_.size());
   for (int i = 0; i < n; ++i)
     ahead[i] = y[i] + dt * yp[i];
-  settleAlgebraic(ev_, set, t + dt, ahead, aheadYp);
+  settleAlgebraic(ev_, set_, t + dt, ahead, aheadYp);
   if (m_.event_update(t + dt, ahead.data(), aheadYp.data(), ev_.params(),
                       probe.data()) == 0 &&
       !changesMode(probe))

@@ -68,9 +68,12 @@ public:
   /// True when it changed a discrete value.
   bool terminal(double t, const double *y, const double *yp);
 
-  /// The differential flags of the state set the integrator runs (null:
-  /// every unknown is a state), for telling jumps.
-  void setStates(const int *isDifferential) { states_ = isDifferential; }
+  /// The state set the integrator runs: its differential flags tell jumps,
+  /// and the right limit of a mode change solves its algebraic unknowns.
+  void setStateSet(int set) {
+    set_ = set;
+    states_ = ev_.set(set).is_differential;
+  }
   /// Counts a jump and logs the states that moved from `before` to
   /// `after` (beyond round-off), if any.
   void noteJump(double t, const std::vector<double> &before,
@@ -106,7 +109,8 @@ private:
   int nd_;
   double rtol_;
   std::ostream *log_;
-  const int *states_ = nullptr;
+  int set_ = 0;
+  const int *states_ = nullptr; // of set_; null before setStateSet
   std::vector<double> out_; // event_update's output
   std::string message_;
   long events_ = 0, timeEvents_ = 0, jumps_ = 0;
