@@ -34,6 +34,10 @@ struct CodegenOptions {
   bool loops = true;
   /// Resolves residual locations for ldae_model::residual_origin.
   const SourceManager *sources = nullptr;
+  /// The JIT keeps the object code of each compiled model here, keyed by
+  /// its content and these options, and loads it instead of compiling
+  /// when it is there (docs/codegen.md, "The object cache"). "": no cache.
+  std::string cacheDir;
 };
 
 /// The backend a model got, and why (`--stats`).

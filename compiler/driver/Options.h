@@ -17,6 +17,11 @@ struct Options {
   std::string input;                      // model.lsd
   std::string modelName;                  // --model
   std::vector<std::string> paramOverrides;// --param name=value
+  std::vector<std::string> overrides;     // --override a=1,x.start=2
+  std::string format;                     // --format csv|mat ("": by -o)
+  bool noCache = false;                   // --no-cache
+  std::vector<std::string> sweep;         // --sweep R=1:10:100 (repeatable)
+  int jobs = 0;                           // --jobs N (0: the cores)
   bool analyze = false;                   // --analyze
   bool json = false;                      // --json
   bool simulate = false;                  // --simulate

@@ -10,6 +10,18 @@
 
 namespace ldae::runtime {
 
+/// The result file formats (docs/results.md).
+enum class ResultFormat { Csv, Mat };
+
+/// The format of `path` by its extension (.mat: Mat, else Csv), or the
+/// one `forced` names ("csv", "mat"); an Error for another name.
+Expected<ResultFormat> resultFormat(const std::string &path,
+                                    const std::string &forced = "");
+
+/// Writes `result` to `path` ("-" is stdout, CSV only) in `format`.
+Expected<bool> writeResult(const SimResult &result, const std::string &path,
+                           ResultFormat format);
+
 /// Writes `result` as CSV to `out`.
 void writeCsv(const SimResult &result, std::ostream &out);
 /// Writes `result` as CSV to the file `path` ("-" is stdout).

@@ -65,8 +65,15 @@ struct SimOptions {
   /// Whether IDA's local error test includes the algebraic unknowns
   /// (IDASetSuppressAlg). Unset: the default rule of docs/runtime.md.
   std::optional<bool> algebraicErrorTest;
-  /// Parameter values overriding the model's defaults, by name.
+  /// Parameter values overriding the model's defaults, by name. What reads
+  /// them (bound parameters, start values) is evaluated again
+  /// (ldae_model::bind); a structural parameter is an Error naming it
+  /// (it needs a recompile).
   std::map<std::string, double> params;
+  /// Start values overriding the model's, by unknown name (`x` for
+  /// x.start). A name that is no unknown of the compiled model (solved
+  /// out, an alias) is an Error saying so: its start needs a recompile.
+  std::map<std::string, double> starts;
   /// Variable structure (ldae_model::n_mode > 0): the model of the mode
   /// whose mode values (ldae_model::mode_discrete order) are `values`,
   /// built on first use and kept alive by the provider. An Error says why
@@ -100,12 +107,36 @@ struct SimStats {
   int n = 0;           ///< unknowns
 };
 
+/// What a column of the result is (result files, plots).
+enum class ColumnKind { Time, Continuous, Derivative, Discrete, Parameter };
+
+/// What a result file and a plot say of one column.
+struct ColumnInfo {
+  ColumnKind kind = ColumnKind::Continuous;
+  std::string unit;        ///< "" when the model gives none
+  std::string description; ///< "" when the model gives none
+  /// 0: a value of its own; +(j + 1): equals column j; -(j + 1): equals
+  /// minus column j (ldae_model::output_alias, mapped to result columns).
+  int alias = 0;
+};
+
+/// A parameter as the run used it (result files carry every one).
+struct ParamValue {
+  std::string name;
+  double value = 0;
+  std::string unit, description;
+};
+
 /// The run's table and outcome.
 struct SimResult {
   int status = 0;      ///< 0 ok, 3 numerical failure (rows kept up to it)
   std::string failure; ///< the message when status != 0
+  std::string model;   ///< the model's name (plot titles, .mat description)
   std::vector<std::string> columns; ///< "time", then the reported names
+  std::vector<ColumnInfo> info;     ///< one per column
   std::vector<std::vector<double>> rows;
+  /// Every parameter of the model with the value of this run.
+  std::vector<ParamValue> params;
   SimStats stats;
 };
 

@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 6
+#define LDAE_ABI_VERSION 7
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -272,6 +272,39 @@ typedef struct ldae_model {
      no dummies). */
   const int *const *dummy_of;          /* n_state_sets x n */
   const int *const *original_row;      /* n_state_sets x n */
+
+  /* ---- Results (ABI 7; docs/results.md) ----
+     What a result file says of each reported column and parameter. Units
+     and descriptions are "" where the model gives none. output_alias[k] is
+     0 when output k is a value of its own, +(j + 1) when it equals output
+     j, -(j + 1) when it equals minus output j (the `a = b` and `a = -b`
+     that alias elimination removed): a .mat file stores the column once
+     and refers to it with sign, as OpenModelica's and Dymola's do. May be
+     NULL (no units, no descriptions, no aliases). */
+  const char *const *output_unit;        /* n_outputs */
+  const char *const *output_description; /* n_outputs */
+  const int *output_alias;               /* n_outputs */
+  const char *const *param_unit;         /* n_params */
+  const char *const *param_description;  /* n_params */
+
+  /* ---- Run-time parameters (ABI 7; docs/results.md) ----
+     A parameter changed for a run (without recompiling) changes what
+     reads it: bind(t0, y, y', p, out) writes the binding of each
+     bound_params[j] at out[j], then the start value of each
+     bound_starts[j] at out[n_bound_params + j], all evaluated over p.
+     Applying the parameter part bind_passes times settles chains of
+     bindings; a parameter given a value by the user keeps it.
+     param_structural[k] = 1 when parameter k fixed the model's structure
+     (an array size, a branch chosen, a subscript): a new value needs a
+     recompile. bind may be NULL (nothing bound); param_structural may be
+     NULL (none structural). */
+  ldae_outputs_fn bind;
+  int n_bound_params;
+  const int *bound_params;             /* n_bound_params */
+  int n_bound_starts;
+  const int *bound_starts;             /* n_bound_starts: unknown indices */
+  int bind_passes;
+  const int *param_structural;         /* n_params */
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians

@@ -1,0 +1,25 @@
+// Which variables a run reports (--outputs, the Python module's
+// `outputs=`): names and patterns expanded against the flat model.
+#pragma once
+
+#include "ir/Model.h"
+#include "support/Diagnostics.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ldae::driver {
+
+/// The names `patterns` select, in model order (the order of declaration,
+/// array elements by index, der(x) right after x, parameters where they
+/// are declared), each once. A pattern is a flat name (`x`, `r1.v`,
+/// `der(x)`, a parameter) or a glob where `*` matches any run of
+/// characters and `?` one (`C[*].v`, `r1.*`). A name or pattern that
+/// selects nothing is reported (ErrUnknownOutput, with the closest names)
+/// and the result is empty.
+std::optional<std::vector<std::string>>
+selectOutputs(const ir::Model &model, const std::vector<std::string> &patterns,
+              DiagnosticEngine &diags);
+
+} // namespace ldae::driver
