@@ -1,0 +1,93 @@
+// MATLAB v4 files through libmatio (see MatFile.h).
+#include "MatFile.h"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <matio.h>
+
+namespace ldae::runtime {
+
+struct MatFile::Handle {
+  mat_t *mat = nullptr;
+  std::string path;
+  ~Handle() {
+    if (mat)
+      Mat_Close(mat);
+  }
+};
+
+MatFile::MatFile(std::unique_ptr<Handle> handle) : handle_(std::move(handle)) {}
+MatFile::MatFile(MatFile &&) noexcept = default;
+MatFile &MatFile::operator=(MatFile &&) noexcept = default;
+MatFile::~MatFile() = default;
+
+Expected<MatFile> MatFile::create(const std::string &path) {
+  auto h = std::make_unique<Handle>();
+  h->path = path;
+  h->mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT4);
+  if (!h->mat)
+    return Error{fmt::format("cannot write '{}'", path)};
+  return MatFile(std::move(h));
+}
+
+namespace {
+
+/// Writes one variable; matio copies `data`, so it may be a temporary.
+bool writeVar(mat_t *mat, const std::string &name, matio_classes cls,
+              matio_types type, size_t rows, size_t cols, const void *data) {
+  size_t dims[2] = {rows, cols};
+  matvar_t *var = Mat_VarCreate(name.c_str(), cls, type, 2, dims,
+                                const_cast<void *>(data), 0);
+  if (!var)
+    return false;
+  int rc = Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE);
+  Mat_VarFree(var);
+  return rc == 0;
+}
+
+} // namespace
+
+Expected<bool> MatFile::writeMatrix(const std::string &name, size_t rows,
+                                    size_t cols, const double *data) {
+  static const double kNone = 0;
+  if (!handle_ || !handle_->mat)
+    return Error{fmt::format("'{}' is closed", name)};
+  if (!writeVar(handle_->mat, name, MAT_C_DOUBLE, MAT_T_DOUBLE, rows, cols,
+                rows * cols ? data : &kNone))
+    return Error{fmt::format("cannot write '{}' to '{}'", name, handle_->path)};
+  return true;
+}
+
+Expected<bool> MatFile::writeStrings(const std::string &name,
+                                     const std::vector<std::string> &strings,
+                                     bool byColumns) {
+  if (!handle_ || !handle_->mat)
+    return Error{fmt::format("'{}' is closed", name)};
+  size_t width = 1; // a char matrix of no columns reads back badly
+  for (const std::string &s : strings)
+    width = std::max(width, s.size());
+  size_t n = strings.size();
+  std::vector<unsigned char> chars(std::max<size_t>(n, 1) * width, ' ');
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < strings[i].size(); ++j)
+      // Column-major: by columns string i fills column i of width rows.
+      chars[byColumns ? j + i * width : i + j * n] =
+          static_cast<unsigned char>(strings[i][j]);
+  size_t rows = byColumns ? width : n, cols = byColumns ? n : width;
+  if (!writeVar(handle_->mat, name, MAT_C_CHAR, MAT_T_UINT8, rows, cols,
+                chars.data()))
+    return Error{fmt::format("cannot write '{}' to '{}'", name, handle_->path)};
+  return true;
+}
+
+Expected<bool> MatFile::close() {
+  if (!handle_ || !handle_->mat)
+    return true;
+  int rc = Mat_Close(handle_->mat);
+  handle_->mat = nullptr;
+  if (rc != 0)
+    return Error{fmt::format("cannot write '{}'", handle_->path)};
+  return true;
+}
+
+} // namespace ldae::runtime
