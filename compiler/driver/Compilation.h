@@ -19,6 +19,7 @@
 
 #include <iosfwd>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -91,6 +92,7 @@ private:
   passes::AnalysisResult analysis_;
   std::unique_ptr<codegen::CompiledModel> compiled_;
   std::optional<ModeCompiler> modes_;
+  std::mutex modesMutex_;
   double compileSeconds_ = 0;
   int exitCode_ = 0;
 };

@@ -29,6 +29,11 @@ void defineOptions(CLI::App &app, Options &o) {
                  "the model to compile (default: the last non-partial model)");
   app.add_option("--param", o.paramOverrides,
                  "override a parameter: --param name=value (repeatable)");
+  app.add_option("--override", o.overrides,
+                 "change values without editing the model, as the Modelica "
+                 "tools do: --override R=2,C.start=1 (parameters by name, "
+                 "start values as name.start; repeatable; what depends on "
+                 "them follows)");
 
   app.add_flag("--analyze", o.analyze,
                "structural analysis report: index, states, dummies, DOF");
@@ -39,7 +44,15 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_flag("--main", o.emitMain,
                "with --emit c: add a main() that runs the model as --simulate "
                "does (links libldaert, docs/embedding-c.md)");
-  app.add_option("-o,--output", o.outputFile, "output file (default stdout)");
+  app.add_option("-o,--output", o.outputFile,
+                 "output file (default stdout); with --simulate the format "
+                 "follows the extension: .mat the MATLAB v4 result layout of "
+                 "OpenModelica and Dymola, anything else CSV "
+                 "(docs/results.md)");
+  app.add_option("--format", o.format,
+                 "with --simulate: the result format whatever -o's "
+                 "extension: csv or mat (mat needs -o FILE)")
+      ->check(CLI::IsMember({"csv", "mat"}));
 
   app.add_option("--start", o.startTime, "start time");
   app.add_option("--stop", o.stopTime, "stop time");
@@ -83,9 +96,25 @@ void defineOptions(CLI::App &app, Options &o) {
                  "every unknown of the index-1 system goes to the integrator")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--outputs", o.outputs,
-                 "comma-separated variables to output (compiles only what "
-                 "they need)");
-  app.add_option("--plot", o.plotFile, "plot the outputs to .svg or .png");
+                 "comma-separated variables and parameters to output, or "
+                 "patterns: * any run of characters, ? one ('C[*].v', "
+                 "'r1.*'); columns in model order; compiles only what they "
+                 "need");
+  app.add_option("--plot", o.plotFile,
+                 "plot the outputs to .svg, .png or .pdf: one panel per "
+                 "unit, labels and legend (docs/plots.md)");
+  app.add_option("--sweep", o.sweep,
+                 "run once per value: --sweep R=1:10:100 (100 values from 1 "
+                 "to 10) or --sweep R=1,2,5; several --sweep make a grid of "
+                 "every combination; one compile, the runs on --jobs threads, "
+                 "every member in -o (docs/results.md, \"Sweeps\")");
+  app.add_option("--jobs", o.jobs,
+                 "with --sweep: members run at once (default: the cores)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--no-cache", o.noCache,
+               "with --simulate: neither read nor write the cache of "
+               "compiled models ($LDAEC_CACHE_DIR, else "
+               "$XDG_CACHE_HOME/ldaec, else ~/.cache/ldaec)");
   app.add_flag("--stats", o.stats,
                "print solver statistics on stderr: steps, evaluations, "
                "roots, events, time events, mode switches, jumps");

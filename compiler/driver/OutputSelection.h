@@ -11,13 +11,15 @@
 
 namespace ldae::driver {
 
-/// The names `patterns` select, in model order (the order of declaration,
-/// array elements by index, der(x) right after x, parameters where they
-/// are declared), each once. A pattern is a flat name (`x`, `r1.v`,
+/// The names `patterns` select, in model order (the variables in the order
+/// of declaration, array elements by index, der(x) right after x, then the
+/// parameters in the order of declaration), each once. A pattern is a flat name (`x`, `r1.v`,
 /// `der(x)`, a parameter) or a glob where `*` matches any run of
 /// characters and `?` one (`C[*].v`, `r1.*`). A name or pattern that
-/// selects nothing is reported (ErrUnknownOutput, with the closest names)
-/// and the result is empty.
+/// selects nothing is reported (ErrUnknownOutputOption, or
+/// ErrUnknownOutputOptionSuggest with the closest names as
+/// runtime::closeNames finds them; this replaces the driver's former
+/// checkAgainstModel) and the result is nullopt.
 std::optional<std::vector<std::string>>
 selectOutputs(const ir::Model &model, const std::vector<std::string> &patterns,
               DiagnosticEngine &diags);

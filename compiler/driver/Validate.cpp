@@ -6,6 +6,7 @@
 #include "frontend/Frontend.h"
 #include "passes/Pipeline.h"
 #include "ResultWriter.h"
+#include "Sweep.h"
 #include "ldae/Simulation.h"
 
 #include <CLI/CLI.hpp>
@@ -179,6 +180,9 @@ bool checkModes(const CLI::App &app, const Options &o,
       {"--stats", "--stats", true, false, false},
       {"--compile-only", "--compile-only", true, false, false},
       {"--jit", "--jit", true, false, false},
+      {"--format", "--format", true, false, false},
+      {"--sweep", "--sweep", true, false, false},
+      {"--no-cache", "--no-cache", true, false, false},
       {"--outputs", "--outputs", true, true, false},
       {"-o", "-o", true, true, false},
   };
@@ -212,6 +216,15 @@ bool checkModes(const CLI::App &app, const Options &o,
                  {"--json", "'--analyze'"});
     ok = false;
   }
+  if (app.count("--jobs") && o.sweep.empty()) {
+    diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{},
+                 {"--jobs", "'--sweep'"});
+    ok = false;
+  }
+  if (!o.sweep.empty() && !o.plotFile.empty()) {
+    diags.report(DiagId::ErrModesConflict, SourceLoc{}, {"--sweep", "--plot"});
+    ok = false;
+  }
   if (o.emitMain && o.emit != "c") {
     diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{},
                  {"--main", "'--emit c'"});
@@ -232,6 +245,28 @@ bool checkPasses(const Options &o, DiagnosticEngine &diags) {
       ok = false;
     }
   return ok;
+}
+
+/// The result format: csv or mat, by --format or -o's extension; a .mat
+/// file needs a file (not standard output).
+bool checkResultFile(const Options &o, DiagnosticEngine &diags) {
+  if (!o.simulate)
+    return true;
+  Expected<runtime::ResultFormat> format =
+      runtime::resultFormat(o.outputFile, o.format);
+  if (!format) {
+    diags.report(DiagId::ErrResultFormat, SourceLoc{},
+                 {o.outputFile, format.error()});
+    return false;
+  }
+  if (*format == runtime::ResultFormat::Mat &&
+      (o.outputFile.empty() || o.outputFile == "-")) {
+    diags.report(DiagId::ErrResultFormat, SourceLoc{},
+                 {"-", "a .mat file cannot go to standard output; name it "
+                       "with -o run.mat"});
+    return false;
+  }
+  return true;
 }
 
 } // namespace
@@ -267,42 +302,21 @@ bool checkCommandLine(const CLI::App &app, const Options &o,
   ok &= checkOutputDir(o.outputFile, "-o", diags);
   ok &= checkOutputDir(o.plotFile, "--plot", diags);
   if (!o.plotFile.empty() && !endsWith(o.plotFile, ".svg") &&
-      !endsWith(o.plotFile, ".png")) {
+      !endsWith(o.plotFile, ".png") && !endsWith(o.plotFile, ".pdf")) {
     diags.report(DiagId::ErrPlotExtension, SourceLoc{}, {o.plotFile});
     ok = false;
   }
-  return checkInput(o.input, diags) && ok;
-}
-
-bool checkAgainstModel(const Options &o, const ir::Model &model,
-                       DiagnosticEngine &diags) {
-  std::vector<std::string> wanted = splitOutputs(o.outputs);
-  if (wanted.empty())
-    return true;
-  std::vector<std::string> names;
-  std::set<std::string> known;
-  for (const ir::Variable &v : model.variables) {
-    names.push_back(v.name);
-    known.insert(v.name);
-    known.insert("der(" + v.name + ")");
-  }
-  bool ok = true;
-  for (const std::string &w : wanted) {
-    if (known.count(w))
-      continue;
-    ok = false;
-    std::vector<std::string> close = runtime::closeNames(names, w);
-    if (close.empty()) {
-      diags.report(DiagId::ErrUnknownOutputOption, SourceLoc{}, {w});
-      continue;
+  for (const std::string &list : o.overrides)
+    for (const std::string &p : splitOutputs(list))
+      ok &= checkParam(p, diags);
+  ok &= checkResultFile(o, diags);
+  for (const std::string &spec : o.sweep)
+    if (Expected<runtime::SweepAxis> axis = runtime::parseSweepAxis(spec);
+        !axis) {
+      diags.report(DiagId::ErrBadSweep, SourceLoc{}, {spec, axis.error()});
+      ok = false;
     }
-    std::string list;
-    for (size_t i = 0; i < close.size(); ++i)
-      list += (i ? ", '" : "'") + close[i] + "'";
-    diags.report(DiagId::ErrUnknownOutputOptionSuggest, SourceLoc{},
-                 {w, list});
-  }
-  return ok;
+  return checkInput(o.input, diags) && ok;
 }
 
 bool hasCommandLineError(const DiagnosticEngine &diags) {

@@ -1,6 +1,7 @@
 // Checks of the ldaec command line that make the driver exit 2 before any
 // work: first those that need nothing but the options (and the file
-// system), then those that need the flat model's names (--outputs). Every
+// system; the --outputs names are checked against the flat model by
+// selectOutputs, OutputSelection.h). Every
 // problem is reported through the diagnostics table (DiagnosticsDriver.def).
 #pragma once
 
@@ -22,11 +23,6 @@ namespace ldae::driver {
 /// false when anything is wrong.
 bool checkCommandLine(const CLI::App &app, const Options &opts,
                       DiagnosticEngine &diags);
-
-/// Checks the options against the flat model: every --outputs name is a
-/// variable of `model` or der() of one. False after reporting.
-bool checkAgainstModel(const Options &opts, const ir::Model &model,
-                       DiagnosticEngine &diags);
 
 /// Whether `diags` holds an error caused by the command line rather than
 /// by the model (--model naming no class, --param naming no parameter):

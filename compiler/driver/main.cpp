@@ -1,18 +1,21 @@
 // The ldaec command: the whole pipeline, top to bottom, in one place.
 //   parse/flatten -> passes -> codegen -> runtime
+// The stages themselves are driver::Compilation's (shared with the Python
+// module); this file says which run for which command line.
 // Exit codes (docs/exit-codes.md): 0 success, 1 the model is wrong (or
 // out of memory), 2 bad command line, 3 numerical failure during
 // simulation.
 #include "Options.h"
 #include "Validate.h"
 
-#include "frontend/Frontend.h"
+#include "Compilation.h"
+
 #include "codegen/Codegen.h"
-#include "ModeCompiler.h"
 #include "passes/Pipeline.h"
 #include "support/Diagnostics.h"
 #include "Plot.h"
 #include "ResultWriter.h"
+#include "Sweep.h"
 #include "ldae/Simulation.h"
 
 #include <fmt/format.h>
@@ -20,7 +23,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <chrono>
 #include <optional>
 #include <fstream>
 #include <iostream>
@@ -52,6 +54,88 @@ static int reportError(DiagnosticEngine &diags, DiagId id,
   return rc;
 }
 
+/// The compile part of the command line.
+static driver::CompileRequest compileRequest(const driver::Options &opts) {
+  driver::CompileRequest req;
+  req.path = opts.input;
+  req.modelName = opts.modelName;
+  req.overrides = opts.paramOverrides;
+  for (const std::string &list : opts.overrides)
+    for (std::string &o : driver::splitOutputs(list))
+      req.overrides.push_back(std::move(o));
+  req.outputs = driver::splitOutputs(opts.outputs);
+  passes::PipelineOptions &p = req.passes;
+  p.method = opts.method;
+  // `--emit reduced` shows the index-1 system index reduction built; the
+  // causal form has no lsd text of its own (its assignments are folded
+  // into the residuals).
+  p.causalize = opts.causalize == "on" && opts.emit != "reduced";
+  p.timePasses = opts.timePasses;
+  p.reportOnly = opts.analyze || (!opts.simulate && opts.emit.empty());
+  p.printAfter = opts.printAfter;
+  p.log = &std::cerr;
+  if (opts.jit == "auto")
+    req.codegen.jit.reset(); // by the size of the model
+  else
+    req.codegen.jit = opts.jit == "on";
+  if (opts.simulate && !opts.noCache)
+    req.codegen.cacheDir = driver::defaultCacheDir();
+  return req;
+}
+
+/// The run part of the command line.
+static runtime::SimOptions simOptions(const driver::Options &opts,
+                                      const driver::CompileRequest &req) {
+  runtime::SimOptions sim;
+  sim.start = opts.startTime;
+  sim.stop = opts.stopTime;
+  sim.rtol = opts.rtol;
+  sim.atol = opts.atol;
+  sim.interval = opts.interval;
+  sim.everyStep = opts.everyStep;
+  sim.times = opts.outputTimes;
+  if (!opts.stopTime && !opts.outputTimes.empty())
+    sim.stop = opts.outputTimes.back(); // explicit times end the run
+  if (opts.algebraicErrorTest != "auto")
+    sim.algebraicErrorTest = opts.algebraicErrorTest == "on";
+  // Checked against the spellings on the command line.
+  sim.integrator = *runtime::parseIntegrator(opts.integrator);
+  // The selected names in model order; none: the runtime's default columns.
+  sim.outputs = req.passes.outputs;
+  sim.progress = !opts.noProgress && isatty(STDERR_FILENO);
+  sim.log = &std::cerr;
+  return sim;
+}
+
+/// `--sweep`: one run per member of the grid, on --jobs threads.
+static int runSweep(driver::Compilation &c, const driver::Options &opts,
+                    const runtime::SimOptions &sim,
+                    runtime::ResultFormat format) {
+  std::vector<runtime::SweepAxis> axes;
+  for (const std::string &spec : opts.sweep)
+    axes.push_back(*runtime::parseSweepAxis(spec)); // checked: exit 2
+  runtime::SimOptions base = sim;
+  base.progress = false; // one line per member instead
+  std::vector<runtime::SweepMember> members = runtime::runSweep(
+      [&c](const runtime::SimOptions &o) { return c.simulate(o); }, base,
+      runtime::sweepMembers(axes), opts.jobs,
+      opts.noProgress ? nullptr : &std::cerr);
+  Expected<bool> written = runtime::writeSweep(
+      members, opts.outputFile.empty() ? std::string("-") : opts.outputFile,
+      format);
+  if (!written)
+    return reportError(c.diagnostics(), DiagId::ErrorGeneric, written.error(),
+                       1);
+  int failed = 0;
+  for (const runtime::SweepMember &m : members)
+    failed += !m.result || m.result->status != 0;
+  if (failed)
+    std::cerr << fmt::format("ldaec: {} of {} members failed (status in the "
+                             "result file)\n",
+                             failed, members.size());
+  return failed ? 3 : 0;
+}
+
 static int run(int argc, char **argv) {
   driver::Options opts;
   CLI::App app;
@@ -72,72 +156,17 @@ static int run(int argc, char **argv) {
     if (!ok)
       return 2;
   }
+  driver::Compilation c(compileRequest(opts), std::cerr);
 
-  // 1. Parse, check and flatten the model.
-  auto stageStart = std::chrono::steady_clock::now();
-  auto msSince = [](std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(
-               std::chrono::steady_clock::now() - t0)
-        .count();
-  };
-  SourceManager sources;
-  DiagnosticEngine diags(sources);
-  diags.setErrorLimit(50);
-  frontend::FrontendOptions feOpts;
-  feOpts.modelName = opts.modelName;
-  feOpts.paramOverrides = opts.paramOverrides;
-  std::unique_ptr<ir::Model> model =
-      frontend::compileFile(opts.input, feOpts, sources, diags);
-  diags.flush(std::cerr);
-  if (driver::hasCommandLineError(diags))
-    return 2; // --model or --param named nothing in the file
-  if (!model)
-    return 1;
-  bool outputsExist = driver::checkAgainstModel(opts, *model, diags);
-  diags.flush(std::cerr);
-  if (!outputsExist)
-    return 2;
-
-  // 2. As many equations as unknowns: a warning that names what is
-  // missing or left over. The geometric algorithm (the "sga" pass) gives
-  // the verdict: redundant but consistent equations are solved without,
-  // too few or conflicting ones are errors naming the free variables or
-  // the conflict.
-  frontend::checkBalance(*model, diags);
-  diags.flush(std::cerr);
-  if (opts.timePasses)
-    std::cerr << "frontend: " << msSince(stageStart) << " ms\n";
-
+  // 1. Parse, check and flatten the model; expand --outputs.
+  if (!c.parse())
+    return c.exitCode();
   if (opts.emit == "flat")
-    return writeOutput(opts.outputFile, model->print()) ? 0 : 1;
+    return writeOutput(opts.outputFile, c.model().print()) ? 0 : 1;
 
-  // 3. Structural analysis, index reduction, initialization (passes).
-  passes::PipelineOptions passOpts;
-  passOpts.method = opts.method;
-  // `--emit reduced` shows the index-1 system index reduction built; the
-  // causal form has no lsd text of its own (its assignments are folded
-  // into the residuals).
-  passOpts.causalize = opts.causalize == "on" && opts.emit != "reduced";
-  passOpts.outputs = driver::splitOutputs(opts.outputs);
-  passOpts.timePasses = opts.timePasses;
-  passOpts.reportOnly = opts.analyze || (!opts.simulate && opts.emit.empty());
-  passOpts.printAfter = opts.printAfter;
-  passOpts.log = &std::cerr;
-  passes::AnalysisResult analysis;
-  // A model whose if-equations may change its structure keeps its flat
-  // form: the run compiles each further mode from it when first reached.
-  std::optional<ir::Model> flat;
-  std::optional<SourceLoc> variableIf;
-  if (const ir::Equation *e = driver::firstVariableIf(*model)) {
-    variableIf = e->loc;
-    if (opts.simulate)
-      flat.emplace(*model);
-  }
-  stageStart = std::chrono::steady_clock::now();
-  bool analyzed = passes::runPipeline(*model, passOpts, diags, analysis);
-  if (opts.timePasses)
-    std::cerr << "passes: " << msSince(stageStart) << " ms\n";
-  diags.flush(std::cerr);
+  // 2. Structural analysis, index reduction, initialization (passes).
+  bool analyzed = c.analyze();
+  const passes::AnalysisResult &analysis = c.analysis();
   if (opts.analyze) {
     // The report says what can be said, even about a singular model.
     if (opts.json)
@@ -153,26 +182,23 @@ static int run(int argc, char **argv) {
                ? 0
                : 1;
 
-  // 4. Code generation: LLVM JIT (or the interpreter), or text.
-  codegen::CodegenOptions cgOpts;
-  if (opts.jit == "auto")
-    cgOpts.jit.reset(); // by the size of the model
-  else
-    cgOpts.jit = opts.jit == "on";
-  cgOpts.sources = &sources;
+  // 3. Code generation: text, or a runnable model (JIT or interpreter).
   if (opts.emit == "c" && !analysis.system->events.modeDiscrete.empty()) {
-    diags.report(DiagId::ErrVariableStructureC,
-                 variableIf.value_or(SourceLoc{}));
-    diags.flush(std::cerr);
+    c.diagnostics().report(DiagId::ErrVariableStructureC,
+                           c.variableStructure().value_or(SourceLoc{}));
+    c.diagnostics().flush(std::cerr);
     return 1;
   }
   if (opts.emit == "llvm" || opts.emit == "c") {
+    codegen::CodegenOptions cg = c.request().codegen;
+    cg.sources = &c.sources();
     Expected<std::string> text =
         opts.emit == "llvm"
-            ? codegen::emitLlvm(*analysis.system, cgOpts)
-            : codegen::emitC(*analysis.system, opts.emitMain, cgOpts);
+            ? codegen::emitLlvm(*analysis.system, cg)
+            : codegen::emitC(*analysis.system, opts.emitMain, cg);
     if (!text)
-      return reportError(diags, DiagId::ErrCodegenFailed, text.error(), 1);
+      return reportError(c.diagnostics(), DiagId::ErrCodegenFailed,
+                         text.error(), 1);
     return writeOutput(opts.outputFile, *text) ? 0 : 1;
   }
   if (!opts.simulate) {
@@ -180,77 +206,47 @@ static int run(int argc, char **argv) {
     passes::printAnalysis(analysis, std::cout);
     return 0;
   }
-  auto compileStart = std::chrono::steady_clock::now();
-  Expected<std::unique_ptr<codegen::CompiledModel>> compiled =
-      codegen::compile(*analysis.system, cgOpts);
-  if (!compiled)
-    return reportError(diags, DiagId::ErrCodegenFailed, compiled.error(), 1);
-  double compileSeconds = std::chrono::duration<double>(
-                              std::chrono::steady_clock::now() - compileStart)
-                              .count();
-  if (opts.timePasses)
-    std::cerr << "codegen: " << compileSeconds * 1e3 << " ms\n";
+  if (!c.compile())
+    return c.exitCode();
   if (opts.compileOnly)
     return 0; // ready to integrate: what compile-time benchmarks measure
 
-  // 5. Integrate and write the results.
-  runtime::SimOptions simOpts;
-  simOpts.start = opts.startTime;
-  simOpts.stop = opts.stopTime;
-  simOpts.rtol = opts.rtol;
-  simOpts.atol = opts.atol;
-  simOpts.interval = opts.interval;
-  simOpts.everyStep = opts.everyStep;
-  simOpts.times = opts.outputTimes;
-  if (!opts.stopTime && !opts.outputTimes.empty())
-    simOpts.stop = opts.outputTimes.back(); // explicit times end the run
-  if (opts.algebraicErrorTest != "auto")
-    simOpts.algebraicErrorTest = opts.algebraicErrorTest == "on";
-  // Checked against the spellings on the command line.
-  simOpts.integrator = *runtime::parseIntegrator(opts.integrator);
-  simOpts.outputs = passOpts.outputs;
-  if (simOpts.outputs.empty()) {
-    // By default the model's own variables; derivatives only when asked.
-    const ldae_model &m = (*compiled)->model();
-    for (int i = 0; i < m.n_outputs; ++i)
-      if (std::string(m.output_names[i]).rfind("der(", 0) != 0)
-        simOpts.outputs.push_back(m.output_names[i]);
-  }
-  std::optional<driver::ModeCompiler> modes;
-  if (flat && !analysis.system->events.modeDiscrete.empty()) {
-    modes.emplace(*flat, passOpts, cgOpts, diags);
-    simOpts.modeProvider = [&](const std::vector<double> &values) {
-      return modes->model(values);
-    };
-  }
-  simOpts.progress = !opts.noProgress && isatty(STDERR_FILENO);
-  simOpts.log = &std::cerr;
-  Expected<runtime::SimResult> result =
-      runtime::simulate((*compiled)->model(), simOpts);
+  // 4. Integrate and write the results.
+  runtime::SimOptions sim = simOptions(opts, c.request());
+  // Checked on the command line (exit 2 before any work).
+  runtime::ResultFormat format =
+      *runtime::resultFormat(opts.outputFile, opts.format);
+  if (!opts.sweep.empty())
+    return runSweep(c, opts, sim, format);
+  Expected<runtime::SimResult> result = c.simulate(sim);
   if (!result)
-    return reportError(diags, DiagId::ErrSimulationOptions, result.error(), 2);
+    return reportError(c.diagnostics(), DiagId::ErrSimulationOptions,
+                       result.error(), 2);
   if (result->status != 0)
-    reportError(diags, DiagId::ErrSimulationFailed, result->failure, 3);
-  Expected<bool> written = runtime::writeCsv(
-      *result, opts.outputFile.empty() ? std::string("-") : opts.outputFile);
+    reportError(c.diagnostics(), DiagId::ErrSimulationFailed, result->failure,
+                3);
+  Expected<bool> written = runtime::writeResult(
+      *result, opts.outputFile.empty() ? std::string("-") : opts.outputFile,
+      format);
   if (!written)
-    return reportError(diags, DiagId::ErrorGeneric, written.error(), 1);
+    return reportError(c.diagnostics(), DiagId::ErrorGeneric, written.error(),
+                       1);
   int rc = result->status == 0 ? 0 : 3;
   if (!opts.plotFile.empty()) {
-    // The CSV is written either way; a plot asked for and not made is still
-    // an error.
+    // The results are written either way; a plot asked for and not made is
+    // still an error.
     Expected<bool> plotted = runtime::plot(*result, opts.plotFile);
     if (!plotted && rc == 0)
       rc = 1;
     if (!plotted)
-      reportError(diags, DiagId::ErrPlotFailed, plotted.error(), rc);
+      reportError(c.diagnostics(), DiagId::ErrPlotFailed, plotted.error(), rc);
   }
   if (opts.stats) {
-    std::cerr << "compile time: " << compileSeconds << " s\n";
-    if (modes)
+    std::cerr << "compile time: " << c.compileSeconds() << " s\n";
+    if (const driver::ModeCompiler *modes = c.modes())
       std::cerr << fmt::format("modes compiled during the run {} ({:.3f} s)\n",
                                modes->compiled(), modes->seconds());
-    std::cerr << codegen::describeBackend((*compiled)->backend()) << "\n";
+    std::cerr << codegen::describeBackend(c.compiled().backend()) << "\n";
     runtime::printStats(result->stats, std::cerr);
   }
   return rc;
