@@ -1,11 +1,15 @@
-// Plots with gnuplot (see Plot.h). gnuplot reads a data file and a script
-// that we write beside the picture, so a user can re-run or edit them. No
-// shell is involved: gnuplot is spawned with an argument vector, and names
-// reach it only as single-quoted gnuplot strings.
+// Plots with gnuplot (see Plot.h, docs/plots.md). planPlot decides the
+// panels (pure: unit tests check it without gnuplot); plot writes a data
+// file and a script beside the picture, so a user can re-run or edit them,
+// and runs gnuplot on the script. No shell is involved: gnuplot is spawned
+// with an argument vector, and names reach it only as single-quoted
+// gnuplot strings.
 #include "Plot.h"
 #include "ResultWriter.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -79,46 +83,270 @@ static std::string gnuplotString(const std::string &s) {
   return q + "'";
 }
 
-Expected<bool> plot(const SimResult &result, const std::string &path,
-                    const std::vector<std::string> &columns) {
-  std::string ext = path.size() > 4 ? path.substr(path.size() - 4) : "";
-  std::string terminal;
-  if (ext == ".svg")
-    terminal = "svg size 900,540 dynamic enhanced background rgb 'white'";
-  else if (ext == ".png")
-    terminal =
-        hasTerminal("pngcairo") ? "pngcairo size 900,540" : "png size 900,540";
-  else
-    return Error{fmt::format("cannot plot to '{}': the file name must end in "
-                             ".svg or .png",
-                             path)};
-  std::vector<std::string> available(result.columns.begin() + 1,
-                                     result.columns.end());
-  std::vector<int> idx;
+namespace {
+
+/// The column's kind; without column info (a result from an older model)
+/// only derivatives can be told apart, by name.
+ColumnKind kindOf(const SimResult &r, size_t c) {
+  if (r.info.size() == r.columns.size())
+    return r.info[c].kind;
+  return r.columns[c].rfind("der(", 0) == 0 ? ColumnKind::Derivative
+                                             : ColumnKind::Continuous;
+}
+
+const std::string &unitOf(const SimResult &r, size_t c) {
+  static const std::string none;
+  return r.info.size() == r.columns.size() ? r.info[c].unit : none;
+}
+
+/// Whether the column repeats another one of the result (an alias, or
+/// minus one): drawn by default it would only hide the other.
+bool isAlias(const SimResult &r, size_t c) {
+  return r.info.size() == r.columns.size() && r.info[c].alias != 0;
+}
+
+/// The largest finite magnitude of column `c` (0 when none).
+double scaleOf(const SimResult &r, size_t c) {
+  double s = 0;
+  for (const std::vector<double> &row : r.rows)
+    if (c < row.size() && std::isfinite(row[c]))
+      s = std::max(s, std::fabs(row[c]));
+  return s;
+}
+
+/// The curves drawn when none are named: the continuous variables, else
+/// the discrete ones.
+std::vector<int> defaultCurves(const SimResult &r) {
+  for (ColumnKind kind : {ColumnKind::Continuous, ColumnKind::Discrete}) {
+    std::vector<int> cols;
+    for (size_t c = 1; c < r.columns.size(); ++c)
+      if (kindOf(r, c) == kind && !isAlias(r, c))
+        cols.push_back(int(c));
+    if (!cols.empty())
+      return cols;
+  }
+  return {};
+}
+
+/// The last component of a name: `v` of `C[2].v`.
+std::string lastComponent(const std::string &name) {
+  size_t dot = name.rfind('.');
+  return dot == std::string::npos ? name : name.substr(dot + 1);
+}
+
+/// "v [V]": the name of a single curve, else the last component every
+/// curve's name shares, else the unit alone.
+std::string axisLabel(const SimResult &r, const PlotPanel &panel) {
+  std::string quantity = r.columns[panel.columns.front()];
+  if (panel.columns.size() > 1) {
+    quantity = lastComponent(quantity);
+    for (int c : panel.columns)
+      if (lastComponent(r.columns[c]) != quantity)
+        quantity.clear();
+  }
+  if (panel.unit.empty())
+    return quantity;
+  return quantity.empty() ? "[" + panel.unit + "]"
+                          : quantity + " [" + panel.unit + "]";
+}
+
+/// Splits the curves of one unit into panels of one scale each (largest
+/// scale first), each in model order. Curves that stay zero fit any scale:
+/// they join the smallest.
+std::vector<std::vector<int>> splitByScale(const SimResult &r,
+                                           const std::vector<int> &cols) {
+  std::vector<std::pair<double, int>> curves, zeros;
+  for (int c : cols)
+    (scaleOf(r, c) > 0 ? curves : zeros).push_back({scaleOf(r, c), c});
+  std::stable_sort(curves.begin(), curves.end(),
+                   [](auto &a, auto &b) { return a.first > b.first; });
+  std::vector<std::vector<int>> panels;
+  double leader = 0;
+  for (auto [scale, c] : curves) {
+    if (panels.empty() || scale * kPlotScaleRatio < leader) {
+      panels.emplace_back();
+      leader = scale;
+    }
+    panels.back().push_back(c);
+  }
+  if (!zeros.empty() && panels.empty())
+    panels.emplace_back();
+  for (auto [scale, c] : zeros)
+    panels.back().push_back(c);
+  for (std::vector<int> &p : panels)
+    std::sort(p.begin(), p.end());
+  return panels;
+}
+
+} // namespace
+
+Expected<PlotPlan> planPlot(const SimResult &result,
+                            const std::vector<std::string> &columns) {
+  std::vector<int> cols;
   if (columns.empty()) {
-    for (size_t i = 0; i < available.size(); ++i)
-      idx.push_back(int(i));
+    cols = defaultCurves(result);
+    if (cols.empty())
+      return Error{"nothing to plot: the result has no continuous or "
+                   "discrete variable (name the columns to plot)"};
   } else {
-    auto sel = selectColumns(available, columns);
+    std::vector<std::string> available(result.columns.begin() + 1,
+                                       result.columns.end());
+    Expected<std::vector<int>> sel = selectColumns(available, columns);
     if (!sel)
       return Error{sel.error()};
-    idx = *sel;
+    for (int i : *sel)
+      if (std::find(cols.begin(), cols.end(), i + 1) == cols.end())
+        cols.push_back(i + 1);
   }
+  // Units in the order their first curve comes.
+  std::vector<std::pair<std::string, std::vector<int>>> groups;
+  for (int c : cols) {
+    const std::string &unit = unitOf(result, c);
+    auto g = std::find_if(groups.begin(), groups.end(),
+                          [&](auto &e) { return e.first == unit; });
+    if (g == groups.end())
+      groups.push_back({unit, {c}});
+    else
+      g->second.push_back(c);
+  }
+  PlotPlan plan;
+  for (const auto &[unit, members] : groups)
+    for (const std::vector<int> &scaled : splitByScale(result, members))
+      for (size_t at = 0; at < scaled.size(); at += kPlotCurvesPerPanel) {
+        PlotPanel panel;
+        panel.unit = unit;
+        panel.columns.assign(
+            scaled.begin() + at,
+            scaled.begin() + std::min(scaled.size(), at + kPlotCurvesPerPanel));
+        panel.label = axisLabel(result, panel);
+        plan.panels.push_back(std::move(panel));
+      }
+  if (plan.panels.size() > kPlotPanels) {
+    std::vector<int> dropped;
+    for (size_t p = kPlotPanels; p < plan.panels.size(); ++p)
+      dropped.insert(dropped.end(), plan.panels[p].columns.begin(),
+                     plan.panels[p].columns.end());
+    std::sort(dropped.begin(), dropped.end());
+    for (int c : dropped)
+      plan.leftOut.push_back(result.columns[c]);
+    plan.panels.resize(kPlotPanels);
+  }
+  return plan;
+}
+
+namespace {
+
+/// The gnuplot terminal for `path`'s extension and a picture of `panels`
+/// panels, or an Error naming the extensions there are.
+Expected<std::string> terminalFor(const std::string &path, size_t panels) {
+  size_t dot = path.rfind('.');
+  std::string ext = dot == std::string::npos ? "" : path.substr(dot);
+  // 280 pixels (2.8 inches) a panel, room for the title.
+  int height = int(std::max<size_t>(420, 60 + 280 * panels));
+  if (ext == ".png")
+    return hasTerminal("pngcairo")
+               ? fmt::format("pngcairo size 900,{} font ',10'", height)
+               : fmt::format("png size 900,{}", height);
+  if (ext == ".svg")
+    return fmt::format("svg size 900,{} dynamic font ',10' background "
+                       "rgb 'white'",
+                       height);
+  if (ext == ".pdf") {
+    if (!hasTerminal("pdfcairo"))
+      return Error{"this gnuplot cannot write PDF (no pdfcairo terminal); "
+                   "plot to .png or .svg"};
+    return fmt::format("pdfcairo size 9in,{:.1f}in font ',10'",
+                       height / 100.0);
+  }
+  return Error{fmt::format("cannot plot to '{}': the file name must end in "
+                           ".svg, .png or .pdf",
+                           path)};
+}
+
+/// Says which curves the caps left out and how to draw them.
+void noteLeftOut(const std::vector<std::string> &leftOut,
+                 std::ostream &notes) {
+  if (leftOut.empty())
+    return;
+  const size_t shown = 10;
+  std::string names;
+  for (size_t i = 0; i < leftOut.size() && i < shown; ++i)
+    names += (i ? ", " : "") + leftOut[i];
+  if (leftOut.size() > shown)
+    names += fmt::format(" and {} more", leftOut.size() - shown);
+  notes << fmt::format(
+      "note: the plot leaves out {} curve{} ({} at most per panel, {} "
+      "panels): {}; name the curves to plot (--outputs) to see them\n",
+      leftOut.size(), leftOut.size() == 1 ? "" : "s", kPlotCurvesPerPanel,
+      kPlotPanels, names);
+}
+
+/// The gnuplot script drawing `plan` from `dat` (time, then the plan's
+/// columns in panel order) into `path`.
+std::string plotScript(const SimResult &result, const PlotPlan &plan,
+                       const std::string &terminal, const std::string &path,
+                       const std::string &dat) {
+  std::string s;
+  s += "set terminal " + terminal + "\n";
+  s += "set output " + gnuplotString(path) + "\n";
+  // A line break cannot be written in a gnuplot string.
+  std::string title = result.model.empty() ? "ldaec" : result.model;
+  std::replace(title.begin(), title.end(), '\n', ' ');
+  std::replace(title.begin(), title.end(), '\r', ' ');
+  s += fmt::format("set multiplot layout {},1 title {} noenhanced font ',12'\n",
+                   plan.panels.size(), gnuplotString(title));
+  // Fixed margins line the panels up over one time axis whatever their
+  // legends' widths.
+  s += "set grid\nset lmargin 12\nset rmargin at screen 0.74\n";
+  s += "set key outside right top Left reverse noenhanced\n";
+  s += "set format y '%g'\nset format x ''\n";
+  int dataColumn = 2;
+  for (size_t p = 0; p < plan.panels.size(); ++p) {
+    const PlotPanel &panel = plan.panels[p];
+    if (p + 1 == plan.panels.size())
+      s += "set format x '%g'\nset xlabel 'time [s]'\n";
+    s += "set ylabel " + gnuplotString(panel.label) + " noenhanced\n";
+    s += "plot ";
+    for (size_t i = 0; i < panel.columns.size(); ++i)
+      s += fmt::format("{}{} using 1:{} with lines lw 1.5 title {}",
+                       i ? ", \\\n     " : "", gnuplotString(dat),
+                       dataColumn++,
+                       gnuplotString(result.columns[panel.columns[i]]));
+    s += "\n";
+  }
+  s += "unset multiplot\n";
+  return s;
+}
+
+} // namespace
+
+Expected<bool> plot(const SimResult &result, const std::string &path,
+                    const std::vector<std::string> &columns,
+                    std::ostream &notes) {
+  Expected<PlotPlan> plan = planPlot(result, columns);
+  if (!plan)
+    return Error{plan.error()};
+  Expected<std::string> terminal = terminalFor(path, plan->panels.size());
+  if (!terminal)
+    return Error{terminal.error()};
   if (path.find_first_of("\n\r") != std::string::npos)
     return Error{"the file name contains a line break"};
-  for (int i : idx)
-    if (available[i].find_first_of("\n\r") != std::string::npos)
+  std::vector<int> drawn;
+  for (const PlotPanel &panel : plan->panels)
+    drawn.insert(drawn.end(), panel.columns.begin(), panel.columns.end());
+  for (int c : drawn)
+    if (result.columns[c].find_first_of("\n\r") != std::string::npos)
       return Error{fmt::format("the column name '{}' contains a line break",
-                               available[i])};
+                               result.columns[c])};
   std::string dat = path + ".dat", script = path + ".gp";
   {
     std::ofstream f(dat);
     if (!f)
       return Error{fmt::format("cannot write '{}'", dat)};
     for (const auto &row : result.rows) {
-      std::string line;
-      for (size_t c = 0; c < row.size(); ++c)
-        line += (c ? " " : "") + formatValue(row[c]);
+      std::string line = formatValue(row[0]);
+      for (int c : drawn)
+        line += " " + formatValue(row[c]);
       f << line << '\n';
     }
   }
@@ -126,16 +354,7 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
     std::ofstream f(script);
     if (!f)
       return Error{fmt::format("cannot write '{}'", script)};
-    f << "set terminal " << terminal << "\n";
-    f << "set output " << gnuplotString(path) << "\n";
-    f << "set xlabel 'time'\nset grid\nset key outside right\n";
-    f << "set datafile separator ' '\n";
-    f << "plot ";
-    for (size_t i = 0; i < idx.size(); ++i)
-      f << (i ? ", \\\n     " : "") << gnuplotString(dat)
-        << " using 1:" << idx[i] + 2 << " with lines title "
-        << gnuplotString(available[idx[i]]) << " noenhanced";
-    f << "\n";
+    f << plotScript(result, *plan, *terminal, path, dat);
   }
   // "./" keeps a relative name starting with '-' from being an option.
   std::string text;
@@ -145,6 +364,7 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
     return Error{fmt::format("cannot run gnuplot: {}", text)};
   if (rc != 0)
     return Error{fmt::format("gnuplot failed on '{}': {}", script, text)};
+  noteLeftOut(plan->leftOut, notes);
   return true;
 }
 

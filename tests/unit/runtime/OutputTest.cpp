@@ -126,7 +126,7 @@ TEST(Output, PlotsSvgAndPng) {
   EXPECT_NE(text.find("C.v"), std::string::npos);
   ASSERT_TRUE(plot(*r, png));
   EXPECT_GT(std::filesystem::file_size(png), 1000u);
-  auto bad = plot(*r, (dir / "rc.pdf").string());
+  auto bad = plot(*r, (dir / "rc.jpg").string());
   EXPECT_FALSE(bad);
   auto unknown = plot(*r, svg, {"nope"});
   EXPECT_FALSE(unknown);

@@ -1,0 +1,163 @@
+// The panels of a plot (planPlot): grouping by unit, splitting by scale,
+// the default curves and the caps. No gnuplot needed.
+#include "Plot.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace ldae::runtime;
+
+namespace {
+
+struct Column {
+  std::string name;
+  ColumnKind kind;
+  std::string unit;
+  double amplitude; ///< the column is amplitude * sin(t)
+  int alias = 0;
+};
+
+/// A result of 50 rows over [0, 2] with `columns` after time.
+SimResult makeResult(const std::vector<Column> &columns) {
+  SimResult r;
+  r.model = "Test";
+  r.columns = {"time"};
+  r.info = {ColumnInfo{ColumnKind::Time, "s", "", 0}};
+  for (const Column &c : columns) {
+    r.columns.push_back(c.name);
+    r.info.push_back(ColumnInfo{c.kind, c.unit, "", c.alias});
+  }
+  for (int k = 0; k < 50; ++k) {
+    double t = 2.0 * k / 49;
+    std::vector<double> row = {t};
+    for (const Column &c : columns)
+      row.push_back(c.amplitude * std::sin(t));
+    r.rows.push_back(row);
+  }
+  return r;
+}
+
+std::vector<std::string> names(const SimResult &r, const PlotPanel &p) {
+  std::vector<std::string> out;
+  for (int c : p.columns)
+    out.push_back(r.columns[c]);
+  return out;
+}
+
+using V = std::vector<std::string>;
+constexpr ColumnKind Cont = ColumnKind::Continuous;
+
+} // namespace
+
+TEST(PlotPlan, GroupsByUnitAndSplitsScales) {
+  SimResult r = makeResult({{"C.v", Cont, "V", 2},
+                            {"L.i", Cont, "A", 0.5},
+                            {"R.v", Cont, "V", 1},
+                            {"sensor.v", Cont, "V", 1e-3},
+                            {"der(C.v)", ColumnKind::Derivative, "V/s", 5},
+                            {"R", ColumnKind::Parameter, "Ohm", 10},
+                            {"C.p.v", Cont, "V", 2, /*alias of C.v*/ 1},
+                            {"gain", Cont, "", 3}});
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan) << plan.error();
+  ASSERT_EQ(plan->panels.size(), 4u);
+  // Units in the order their first curve comes; within a unit the largest
+  // scale first; curves in model order.
+  EXPECT_EQ(names(r, plan->panels[0]), (V{"C.v", "R.v"}));
+  EXPECT_EQ(plan->panels[0].label, "v [V]");
+  EXPECT_EQ(names(r, plan->panels[1]), (V{"sensor.v"}));
+  EXPECT_EQ(plan->panels[1].label, "sensor.v [V]");
+  EXPECT_EQ(names(r, plan->panels[2]), (V{"L.i"}));
+  EXPECT_EQ(plan->panels[2].label, "L.i [A]");
+  EXPECT_EQ(names(r, plan->panels[3]), (V{"gain"}));
+  EXPECT_EQ(plan->panels[3].label, "gain");
+  EXPECT_TRUE(plan->leftOut.empty());
+}
+
+TEST(PlotPlan, MixedNamesLabelTheUnit) {
+  SimResult r = makeResult({{"a.x", Cont, "m", 1}, {"b.y", Cont, "m", 2}});
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), 1u);
+  EXPECT_EQ(plan->panels[0].label, "[m]");
+}
+
+TEST(PlotPlan, TwoDecadesApartSplitMoreDoNot) {
+  // 1 and 0.011 share a panel (less than 100 apart); 0.009 does not.
+  SimResult r = makeResult({{"a", Cont, "V", 1},
+                            {"b", Cont, "V", 0.011},
+                            {"c", Cont, "V", 0.009},
+                            {"zero", Cont, "V", 0}});
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), 2u);
+  EXPECT_EQ(names(r, plan->panels[0]), (V{"a", "b"}));
+  // A curve that stays zero joins the smallest scale.
+  EXPECT_EQ(names(r, plan->panels[1]), (V{"c", "zero"}));
+}
+
+TEST(PlotPlan, CapsCurvesAndPanels) {
+  // 60 curves of one unit and scale: 8 a panel, 6 panels, 12 left out.
+  std::vector<Column> cols;
+  for (int i = 1; i <= 60; ++i)
+    cols.push_back({"T[" + std::to_string(i) + "]", Cont, "K", 300});
+  SimResult r = makeResult(cols);
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), kPlotPanels);
+  size_t drawn = 0;
+  for (const PlotPanel &p : plan->panels) {
+    EXPECT_LE(p.columns.size(), kPlotCurvesPerPanel);
+    drawn += p.columns.size();
+  }
+  EXPECT_EQ(drawn, 48u);
+  EXPECT_EQ(names(r, plan->panels[0]).front(), "T[1]");
+  ASSERT_EQ(plan->leftOut.size(), 12u);
+  EXPECT_EQ(plan->leftOut.front(), "T[49]");
+  EXPECT_EQ(plan->leftOut.back(), "T[60]");
+}
+
+TEST(PlotPlan, NamedColumnsOnlyAnyKind) {
+  SimResult r = makeResult({{"x", Cont, "", 1},
+                            {"der(x)", ColumnKind::Derivative, "", 1},
+                            {"k", ColumnKind::Parameter, "", 1}});
+  auto plan = planPlot(r, {"der(x)", "k"});
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), 1u);
+  EXPECT_EQ(names(r, plan->panels[0]), (V{"der(x)", "k"}));
+  auto unknown = planPlot(r, {"y"});
+  ASSERT_FALSE(unknown);
+  EXPECT_NE(unknown.error().find("'y'"), std::string::npos);
+}
+
+TEST(PlotPlan, WithoutColumnInfoOneGroupNoDerivatives) {
+  SimResult r = makeResult({{"x", Cont, "", 1},
+                            {"der(x)", ColumnKind::Derivative, "", 1},
+                            {"y", Cont, "", 1}});
+  r.info.clear(); // a result without metadata
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), 1u);
+  EXPECT_EQ(names(r, plan->panels[0]), (V{"x", "y"}));
+  EXPECT_EQ(plan->panels[0].unit, "");
+}
+
+TEST(PlotPlan, DiscreteWhenNothingContinuous) {
+  SimResult r = makeResult({{"k", ColumnKind::Parameter, "", 1},
+                            {"mode", ColumnKind::Discrete, "", 1}});
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan);
+  EXPECT_EQ(names(r, plan->panels[0]), (V{"mode"}));
+  SimResult onlyParams = makeResult({{"k", ColumnKind::Parameter, "", 1}});
+  auto none = planPlot(onlyParams);
+  ASSERT_FALSE(none);
+  EXPECT_NE(none.error().find("nothing to plot"), std::string::npos);
+}
+
+TEST(PlotPlan, ExtensionDecidesTheFormat) {
+  SimResult r = makeResult({{"x", Cont, "", 1}});
+  auto bad = plot(r, "out.eps");
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().find(".svg, .png or .pdf"), std::string::npos);
+}
