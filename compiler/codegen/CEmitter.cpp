@@ -10,6 +10,7 @@
 #include "codegen/EmbeddedText.h"
 #include "codegen/LlvmEmitter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -463,6 +464,62 @@ std::string printEventTables(std::ostream &os, const CodePlan &plan) {
   return init.str();
 }
 
+/// The tables of the results block (ABI 7) before the model struct;
+/// returns the block's initializers, designated like the next block's.
+std::string printResultTables(std::ostream &os, const CodePlan &plan) {
+  const std::string &s = plan.symbolName;
+  auto str = [](const std::string &v) { return quote(v); };
+  auto integer = [](int v) { return std::to_string(v); };
+  auto table = [&](const std::string &type, const std::string &field,
+                   const auto &values, auto format) {
+    printArray(os, type, s + "_" + field, values, format);
+    return "." + field + " = " + s + "_" + field;
+  };
+  std::ostringstream init;
+  init << "  " << table("char *const", "output_unit", plan.outputUnit, str)
+       << ",\n  "
+       << table("char *const", "output_description", plan.outputDescription,
+                str)
+       << ",\n  " << table("int", "output_alias", plan.outputAlias, integer)
+       << ",\n  " << table("char *const", "param_unit", plan.paramUnit, str)
+       << ",\n  "
+       << table("char *const", "param_description", plan.paramDescription,
+                str)
+       << "\n";
+  return init.str();
+}
+
+/// The tables of the run-time parameters block (ABI 7) before the model
+/// struct; returns the block's initializers, designated so the blocks
+/// before it may grow without moving them.
+std::string printBindingTables(std::ostream &os, const CodePlan &plan) {
+  const std::string &s = plan.symbolName;
+  auto integer = [](int v) { return std::to_string(v); };
+  auto table = [&](const std::string &field, const std::vector<int> &values) {
+    if (values.empty())
+      return std::string("0");
+    printArray(os, "int", s + "_" + field, values, integer);
+    return s + "_" + field;
+  };
+  bool anyStructural = std::find(plan.structuralParams.begin(),
+                                 plan.structuralParams.end(),
+                                 1) != plan.structuralParams.end();
+  std::ostringstream init;
+  init << "  .bind = "
+       << (plan.bind < 0 ? std::string("0")
+                         : functionSymbol(plan, plan.functions[plan.bind]))
+       << ",\n  .n_bound_params = " << plan.boundParams.size()
+       << ", .bound_params = " << table("bound_params", plan.boundParams)
+       << ",\n  .n_bound_starts = " << plan.boundStarts.size()
+       << ", .bound_starts = " << table("bound_starts", plan.boundStarts)
+       << ",\n  .bind_passes = " << plan.bindPasses
+       << ", .param_structural = "
+       << (anyStructural ? table("param_structural", plan.structuralParams)
+                         : std::string("0"))
+       << "\n";
+  return init.str();
+}
+
 } // namespace
 
 std::string printC(const CodePlan &plan, bool withMain) {
@@ -521,6 +578,8 @@ std::string printC(const CodePlan &plan, bool withMain) {
     printArray(os, "int", s + "_tested_rowind", plan.testedRowind, integer);
   }
   const std::string events = printEventTables(os, plan);
+  const std::string results = printResultTables(os, plan);
+  const std::string bindings = printBindingTables(os, plan);
   os << "static const ldae_state_set " << s << "_state_sets[] = {\n";
   for (size_t i = 0; i < plan.stateSets.size(); ++i) {
     const StateSetPlan &sp = plan.stateSets[i];
@@ -563,25 +622,13 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << ", " << plan.testedRowind.size() << ", "
      << (tested ? s + "_tested_colptr" : "0") << ", "
      << (tested ? s + "_tested_rowind" : "0") << ", "
-     << fnRef(plan.testedJacobianCsc) << ",\n" << events << "};\n\n"
+     << fnRef(plan.testedJacobianCsc) << ",\n" << events << ",\n"
+     << results << ",\n" << bindings << "};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
-  if (withMain) {
-    // What the program's --param re-evaluates (CodePlan::bind); the rest
-    // is the runtime's ldae_main.
-    printArray(os, "int", "ldae_main_bound_params", plan.boundParams, integer);
-    printArray(os, "int", "ldae_main_bound_starts", plan.boundStarts, integer);
-    printArray(os, "int", "ldae_main_structural", plan.structuralParams,
-               integer);
+  if (withMain)
     os << "\nint main(int argc, char **argv) {\n"
-       << "  static const ldae_bindings bindings = {\n"
-       << "    " << fnRef(plan.bind) << ", " << plan.boundParams.size()
-       << ", ldae_main_bound_params, " << plan.boundStarts.size()
-       << ", ldae_main_bound_starts,\n"
-       << "    " << plan.bindPasses << ", ldae_main_structural};\n"
-       << "  return ldae_main(&ldae_model_" << s
-       << ", &bindings, argc, argv);\n}\n";
-  }
+       << "  return ldae_main(&ldae_model_" << s << ", argc, argv);\n}\n";
   return os.str();
 }
 

@@ -705,8 +705,18 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   if (opts.sources)
     for (const ir::SystemOutput &o : sys.outputs)
       plan.outputOrigin.push_back(origin(o.loc, ""));
-  for (const ir::SystemOutput &o : sys.outputs)
+  for (const ir::SystemOutput &o : sys.outputs) {
     plan.outputNames.push_back(o.name);
+    plan.outputUnit.push_back(o.unit);
+    plan.outputDescription.push_back(o.description);
+    plan.outputAlias.push_back(o.alias);
+  }
+  for (size_t i = 0; i < plan.paramNames.size(); ++i) {
+    bool own = sys.model && i < sys.model->parameters.size();
+    plan.paramUnit.push_back(own ? sys.model->parameters[i].unit : "");
+    plan.paramDescription.push_back(
+        own ? sys.model->parameters[i].description : "");
+  }
   plan.explicitOde = sys.explicitOde;
   plan.algebraicErrorTest = sys.index <= 1;
 
@@ -850,10 +860,8 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
         valuesFunction("time_events", events.timeEvents, keys);
   if (!events.asserts.empty())
     plan.events.asserts = valuesFunction("asserts", events.asserts, keys);
-  if (opts.bindings) {
-    std::vector<ExprRef> values = planBindings(sys, plan);
+  if (std::vector<ExprRef> values = planBindings(sys, plan); !values.empty())
     plan.bind = valuesFunction("bind", values, keys);
-  }
 
   if (!error.empty())
     return Error{error};

@@ -177,6 +177,11 @@ struct CodePlan {
   unsigned n = 0, nInit = 0, nRoots = 0, nOutputs = 0, nDrift = 0;
   std::vector<std::string> varNames, paramNames, outputNames, residualOrigin;
   std::vector<std::string> outputOrigin; // empty, or one per output
+  /// The Results block (ldae_model::output_unit...): one per output / per
+  /// parameter, "" where the model gives none.
+  std::vector<std::string> outputUnit, outputDescription, paramUnit,
+      paramDescription;
+  std::vector<int> outputAlias;
   bool explicitOde = false; // ldae_model::explicit_ode
   /// The geometric slots (--method sga|ode): n_ode = n when the system is
   /// linearly implicit, with the constraints c(t, y) and dc/dy (dense,
@@ -194,9 +199,10 @@ struct CodePlan {
   std::vector<int> fixed;
   double startTime, stopTime, tolerance, interval; // NaN when unset
 
-  /// Parameter bindings, for programs that change a parameter without
-  /// recompiling (the emitted main's --param); filled when
-  /// PlanOptions::bindings is set. `bind` (FnSig::Values) writes the
+  /// Parameter bindings, for runs that change a parameter without
+  /// recompiling (ldae_model::bind: runtime::simulate's params, the
+  /// emitted main's --param). `bind` (FnSig::Values; -1 when nothing is
+  /// bound) writes the
   /// binding of boundParams[j] at out[j], then the start value of unknown
   /// boundStarts[k] at out[boundParams.size() + k], each over the current
   /// p. Applying the parameter part bindPasses times settles every chain of
@@ -225,9 +231,6 @@ struct PlanOptions {
   bool loops = true;
   /// Resolves residual locations to "file:line" (optional).
   const class ldae::SourceManager *sources = nullptr;
-  /// Plan the parameter bindings (CodePlan::bind); only a program that
-  /// re-binds parameters needs them.
-  bool bindings = false;
 };
 
 /// Lowers `sys` (validated against the layout rule) into a code plan,

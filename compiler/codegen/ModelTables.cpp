@@ -66,6 +66,19 @@ void ModelTables::setEventTables(const EventPlan &ev) {
   m.original_row = rows(ev.originalRow);
 }
 
+void ModelTables::setBindingTables(const CodePlan &plan) {
+  ldae_model &m = model_;
+  m.n_bound_params = int(plan.boundParams.size());
+  m.bound_params = plan.boundParams.empty() ? nullptr : ints(plan.boundParams);
+  m.n_bound_starts = int(plan.boundStarts.size());
+  m.bound_starts = plan.boundStarts.empty() ? nullptr : ints(plan.boundStarts);
+  m.bind_passes = int(plan.bindPasses);
+  bool anyStructural = false;
+  for (int s : plan.structuralParams)
+    anyStructural = anyStructural || s;
+  m.param_structural = anyStructural ? ints(plan.structuralParams) : nullptr;
+}
+
 int ModelTables::pattern(const std::vector<int> &colptr,
                          const std::vector<int> &rowind,
                          const int *&colptrOut, const int *&rowindOut) {
@@ -79,9 +92,9 @@ int ModelTables::pattern(const std::vector<int> &colptr,
 
 ModelTables::ModelTables(const CodePlan &plan) {
   // Reserve so pointers into the vectors of vectors stay valid.
-  strings_.reserve(8);
-  pointers_.reserve(8);
-  ints_.reserve(3 * plan.stateSets.size() + 5);
+  strings_.reserve(16);
+  pointers_.reserve(16);
+  ints_.reserve(3 * plan.stateSets.size() + 9);
   name_ = plan.name;
   startY_ = plan.startY;
   startYp_ = plan.startYp;
@@ -143,6 +156,17 @@ ModelTables::ModelTables(const CodePlan &plan) {
   m.n_state_sets = sets_.size();
   m.state_sets = sets_.data();
   setEventTables(plan.events);
+  setBindingTables(plan);
+  setResultTables(plan);
+}
+
+void ModelTables::setResultTables(const CodePlan &plan) {
+  ldae_model &m = model_;
+  m.output_unit = names(plan.outputUnit);
+  m.output_description = names(plan.outputDescription);
+  m.output_alias = ints(plan.outputAlias);
+  m.param_unit = names(plan.paramUnit);
+  m.param_description = names(plan.paramDescription);
 }
 
 void ModelTables::setFunctions(const CodePlan &plan,
@@ -172,6 +196,7 @@ void ModelTables::setFunctions(const CodePlan &plan,
   fn(plan.events.update, model_.event_update);
   fn(plan.events.timeEvents, model_.time_events);
   fn(plan.events.asserts, model_.asserts);
+  fn(plan.bind, model_.bind);
 }
 
 } // namespace ldae::codegen

@@ -41,6 +41,10 @@ private:
   const int *const *rows(const std::vector<std::vector<int>> &table);
   /// The events block (ABI 6) of the model.
   void setEventTables(const EventPlan &events);
+  /// The run-time parameters block (ABI 7) but its function.
+  void setBindingTables(const CodePlan &plan);
+  /// The results block (ABI 7): units, descriptions, aliases.
+  void setResultTables(const CodePlan &plan);
 
   ldae_model model_{};
   std::vector<std::vector<std::string>> strings_;

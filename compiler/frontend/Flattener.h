@@ -267,6 +267,8 @@ private:
                        const ModPtr &mod);
   void createVariable(InstNode &node, const std::string &name,
                       const ModPtr &mod);
+  /// The `unit` attribute of `mod` ("" when absent; a number is reported).
+  std::string readUnit(const ModPtr &mod, const std::string &name);
   void checkModifiers(InstNode &node);
   ModPtr makeMod(const ast::Modification *m, const Scope &scope);
   void readExperiment(const ast::ClassDef &cls, InstNode &root);
@@ -370,7 +372,12 @@ private:
   std::unique_ptr<ir::Model> model_;
   std::unique_ptr<ir::Differentiator> diff_;
   std::unique_ptr<InstNode> root_;
-  std::map<std::string, std::pair<double, bool>> overrides_; // value, used
+  /// --param and --override values by name (`p`, `x.start`): value, used.
+  std::map<std::string, std::pair<double, bool>> overrides_;
+  /// Reports the overrides that named nothing (exit 2 in the driver).
+  void reportUnusedOverrides();
+  /// The suffix of an override that sets a variable's start value.
+  static constexpr const char *kStartSuffix = ".start";
   std::map<const ast::Component *, Value> packageConstants_;
   std::map<const ast::Component *, bool> packageConstantBusy_;
   std::map<std::tuple<const ast::Expr *, InstNode *, const ast::ClassDef *>,

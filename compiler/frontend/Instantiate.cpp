@@ -585,12 +585,27 @@ std::optional<double> scalarNumber(Flattener &f, const Mod &mod,
 }
 } // namespace
 
+std::string Flattener::readUnit(const ModPtr &mod, const std::string &name) {
+  ModPtr u = mod ? mod->sub("unit") : nullptr;
+  if (!u || !u->value)
+    return "";
+  std::optional<Value> uv = lowerModValue(*u);
+  if (uv && !uv->isString) {
+    report(DiagId::ErrModifierType, SourceRange{u->loc, u->length},
+           {"attribute 'unit' of '" + name + "'", "a string", "a number"});
+    return "";
+  }
+  return uv ? uv->str : "";
+}
+
 void Flattener::createParameter(InstNode &node, const std::string &name,
                                 const ModPtr &mod) {
   ir::Parameter p;
   p.name = name;
   p.component = node.parent ? node.parent->path : "";
   p.loc = node.decl->loc;
+  p.unit = readUnit(mod, name);
+  p.description = node.decl->description;
   p.isConstant = node.variability == ast::Variability::Constant;
   p.isInteger = node.builtin == BuiltinType::Integer;
   p.isBoolean = node.builtin == BuiltinType::Boolean;
@@ -666,16 +681,9 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
     if (auto s = attr("stateSelect"))
       v.stateSelect = static_cast<ir::StateSelect>(
           std::clamp(static_cast<int>(*s), 0, 4));
-    if (ModPtr u = mod->sub("unit"); u && u->value) {
-      std::optional<Value> uv = lowerModValue(*u);
-      if (uv && !uv->isString)
-        report(DiagId::ErrModifierType, SourceRange{u->loc, u->length},
-                      {"attribute 'unit' of '" + name + "'", "a string",
-                       "a number"});
-      else if (uv)
-        v.unit = uv->str;
-    }
   }
+  v.unit = readUnit(mod, name);
+  v.description = node.decl->description;
   bool isFlow = node.flow && (node.isConnector ||
                               (node.parent && node.parent->isConnector));
   ir::VarId id = model_->addVariable(std::move(v));

@@ -59,10 +59,19 @@ struct TestedValue {
 };
 
 /// A reported variable computed from the unknowns (aliases, solved-out).
+/// What a reported value is (ldae_model's Results block, result files).
+enum class OutputKind { Continuous, Derivative, Discrete };
+
 struct SystemOutput {
   std::string name;
   ExprRef value = nullptr; // over y, y' as the layout rule says
   SourceLoc loc; // the equation computing it (causalization), if any
+  OutputKind kind = OutputKind::Continuous;
+  std::string unit, description; // the declaration's; "" where none
+  /// 0, or +(j + 1) / -(j + 1) when alias elimination made this variable
+  /// equal to output j / to minus output j (a result file stores the
+  /// column once and refers to it with sign).
+  int alias = 0;
 };
 
 /// What a discrete value is (ldae_model::discrete_kind, LDAE_DISCRETE_*).

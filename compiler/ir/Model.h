@@ -41,6 +41,7 @@ struct Variable {
   /// an emitted program re-evaluates it when a parameter is changed.
   ExprRef startBinding = nullptr;
   std::string unit;
+  std::string description; // the declaration's string comment, "" if none
   bool isInput = false;
   bool isOutput = false;
   bool isDiscrete = false; // Integer/Boolean variables, changed only at events
@@ -57,6 +58,8 @@ struct Parameter {
   SourceLoc loc;
   double value = 0;
   bool isConstant = false; // `constant`: cannot be overridden
+  std::string unit;        // "" when the declaration gives none
+  std::string description; // the declaration's string comment, "" if none
   bool isInteger = false;
   bool isBoolean = false;
   /// The binding expression when it reads other parameters (null for a
@@ -161,6 +164,10 @@ public:
   /// The user's parameters: those before the discrete slots the events
   /// pass appends.
   size_t userParameterCount() const;
+  /// Whether each parameter fixes the structure: marked structural by the
+  /// frontend, or read by the binding of one that is (a new value of
+  /// either needs a recompile).
+  std::vector<bool> structuralParameters() const;
 
   /// The user's spelling of Variable(key): `x`, `der(x)`, `der(der(x))`.
   std::string variableName(VarKey key) const;

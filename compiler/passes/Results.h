@@ -89,9 +89,11 @@ struct InitResult {
 class PassContext;
 
 /// The reported variables of a system: every user variable (aliases
-/// included) and der(x) where the model differentiates x, by name, or the
-/// requested outputs only; `subst` maps model nodes to the system's slots.
-/// False after reporting an unknown output name. (SystemBuilder.cpp; the
+/// included) and der(x) right after x where the model differentiates x,
+/// in model order, or the requested outputs only, in the order requested
+/// (a requested parameter is left to the runtime); with their kind, unit,
+/// description and alias (ir::SystemOutput). `subst` maps model nodes to
+/// the system's slots. False after reporting an unknown output name. (SystemBuilder.cpp; the
 /// SGA's system reports the same outputs.)
 bool buildOutputs(PassContext &pc, const AliasResult &alias,
                   const MatchingResult &mr, VarSubstitution &subst,

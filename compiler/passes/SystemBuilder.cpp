@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <set>
+#include <unordered_map>
 
 namespace ldae::passes {
 
@@ -37,54 +38,103 @@ struct Slots {
 
 } // namespace
 
+namespace {
+
+/// The target and sign of an alias's value `x` or `-x` (x a variable);
+/// nothing for any other value (`a = b + 1`, `a = p`).
+std::optional<std::pair<ir::VarId, int>> aliasTarget(ir::ExprRef e) {
+  if (e->kind() == ir::ExprKind::Variable && e->order() == 0)
+    return std::make_pair(e->var(), 1);
+  if (e->kind() == ir::ExprKind::Mul && e->numOperands() == 2 &&
+      e->operand(0)->isConstant(-1) &&
+      e->operand(1)->kind() == ir::ExprKind::Variable &&
+      e->operand(1)->order() == 0)
+    return std::make_pair(e->operand(1)->var(), -1);
+  return std::nullopt;
+}
+
+} // namespace
+
 bool buildOutputs(PassContext &pc, const AliasResult &alias,
                   const MatchingResult &mr, VarSubstitution &subst,
                   std::vector<ir::SystemOutput> &out) {
   ir::Model &m = pc.model;
   ir::ExprContext &ctx = m.ctx();
   const size_t userVars = alias.eliminated.size();
-  // Outputs: every user variable (aliases included) and der(x) where the
-  // model differentiates x.
+  // Outputs in model order (declaration order, array elements by index):
+  // every user variable (aliases included) and der(x) right after x where
+  // the model differentiates x.
   std::vector<ir::SystemOutput> outputs;
   std::vector<ir::ExprRef> aliasValue(userVars, nullptr);
   for (const Alias &a : alias.aliases)
     aliasValue[a.var] = a.value;
+  // Per output, the variable its alias value names with sign (0: none).
+  std::vector<std::pair<ir::VarId, int>> aliasOf;
+  std::unordered_map<std::string, size_t> ownValue; // name -> output
   for (ir::VarId v = 0; v < userVars; ++v) {
     const ir::Variable &var = m.variables[v];
+    auto add = [&](std::string name, ir::ExprRef value, ir::OutputKind kind) {
+      ir::SystemOutput o{std::move(name), value};
+      o.kind = kind;
+      if (kind != ir::OutputKind::Derivative) {
+        o.unit = var.unit;
+        o.description = var.description;
+      }
+      outputs.push_back(std::move(o));
+      aliasOf.push_back({0, 0});
+    };
     if (aliasValue[v]) {
-      outputs.push_back({var.name, subst.apply(aliasValue[v])});
+      add(var.name, subst.apply(aliasValue[v]),
+          var.isDiscrete ? ir::OutputKind::Discrete
+                         : ir::OutputKind::Continuous);
+      if (auto t = aliasTarget(aliasValue[v]))
+        aliasOf.back() = *t;
     } else if (var.isDiscrete) {
       // A discrete variable is read from its slot of the discrete state.
       std::optional<ir::ParamId> p = m.findParameter(var.name);
       if (var.input == ir::EventInput::None && p && m.parameters[*p].discrete)
-        outputs.push_back({var.name, ctx.param(*p)});
+        add(var.name, ctx.param(*p), ir::OutputKind::Discrete);
     } else if (mr.unknownIndex[v] >= 0) {
-      outputs.push_back({var.name, ctx.var(v)});
+      ownValue[var.name] = outputs.size();
+      add(var.name, ctx.var(v), ir::OutputKind::Continuous);
       int j = mr.unknownIndex[v];
       if (mr.originalOrder[j] >= 1)
-        outputs.push_back(
-            {m.variableName(ir::VarKey{v, 1}), subst.apply(ctx.var(v, 1))});
+        add(m.variableName(ir::VarKey{v, 1}), subst.apply(ctx.var(v, 1)),
+            ir::OutputKind::Derivative);
     }
   }
-  std::sort(outputs.begin(), outputs.end(),
-            [](const ir::SystemOutput &a, const ir::SystemOutput &b) {
-              return a.name < b.name;
-            });
+  std::vector<size_t> picked;
   if (pc.opts.outputs.empty()) {
-    out = std::move(outputs);
+    for (size_t k = 0; k < outputs.size(); ++k)
+      picked.push_back(k);
   } else {
+    std::unordered_map<std::string, size_t> byName;
+    for (size_t k = 0; k < outputs.size(); ++k)
+      byName[outputs[k].name] = k;
     for (const std::string &name : pc.opts.outputs) {
-      auto it = std::find_if(
-          outputs.begin(), outputs.end(),
-          [&](const ir::SystemOutput &o) { return o.name == name; });
-      if (it == outputs.end()) {
+      if (auto it = byName.find(name); it != byName.end())
+        picked.push_back(it->second);
+      // A parameter is a constant column the runtime reports itself.
+      else if (std::optional<ir::ParamId> p = m.findParameter(name);
+               !p || m.parameters[*p].discrete)
         pc.diags.report(DiagId::ErrUnknownOutput, SourceLoc{}, {name});
-        continue;
-      }
-      out.push_back(*it);
     }
     if (pc.diags.hasErrors())
       return false;
+  }
+  std::unordered_map<size_t, int> position; // output -> index in `out`
+  for (size_t i = 0; i < picked.size(); ++i)
+    position.emplace(picked[i], static_cast<int>(i));
+  for (size_t k : picked) {
+    out.push_back(outputs[k]);
+    auto [target, sign] = aliasOf[k];
+    if (!sign)
+      continue;
+    auto own = ownValue.find(m.variables[target].name);
+    if (own == ownValue.end())
+      continue;
+    if (auto at = position.find(own->second); at != position.end())
+      out.back().alias = sign * (at->second + 1);
   }
   return true;
 }

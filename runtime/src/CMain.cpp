@@ -1,12 +1,13 @@
 // The C entry point ldae_main (ldae/run.h): the main of an emitted
 // program. It owns only what the program's command line adds to
-// `ldaec --simulate`: parsing it, re-evaluating what a changed parameter
-// binds (the JIT path recompiles instead), and exit codes. The run itself
-// is runtime::simulate and writeCsv, so both programs compute and write
-// the same thing. Built into libldaert (runtime/CMakeLists.txt), which
+// `ldaec --simulate`: parsing it and exit codes. The run itself is
+// runtime::simulate (which also re-evaluates what a changed parameter
+// binds, Rebind.h) and writeResult, so both programs compute and write the
+// same thing. Built into libldaert (runtime/CMakeLists.txt), which
 // exports this one symbol.
 #include "ldae/run.h"
 
+#include "Rebind.h"
 #include "ResultWriter.h"
 #include "ldae/Simulation.h"
 
@@ -31,8 +32,6 @@ struct Args {
   SimOptions sim;
   std::string outPath = "-";
   bool stats = false;
-  /// Parameter values given with --param, by index.
-  std::vector<std::pair<int, double>> params;
 };
 
 int fail(int code, const std::string &message) {
@@ -40,14 +39,15 @@ int fail(int code, const std::string &message) {
   return code;
 }
 
-bool structural(const ldae_bindings &b, int k) {
-  return b.structural && b.structural[k];
+bool structural(const ldae_model &m, int k) {
+  return m.param_structural && m.param_structural[k];
 }
 
-void printUsage(const ldae_model &m, const ldae_bindings &b) {
+void printUsage(const ldae_model &m) {
   std::cout << fmt::format(
       "Simulates model {} with the ldaec runtime (as ldaec --simulate) and "
-      "writes CSV.\n"
+      "writes CSV\n"
+      "(a .mat file in OpenModelica's layout with -o FILE.mat).\n"
       "Usage: ./model [--start T0] [--stop T1] [--interval H] [--rtol R] "
       "[--atol A]\n"
       "               [--integrator auto|ida|cvode|cvode-bdf|cvode-adams] "
@@ -64,7 +64,7 @@ void printUsage(const ldae_model &m, const ldae_bindings &b) {
   for (int k = 0; k < m.n_params; ++k)
     std::cout << "  " << m.param_names[k] << " = "
               << formatValue(m.param_values[k])
-              << (structural(b, k) ? " (fixes the structure)" : "") << "\n";
+              << (structural(m, k) ? " (fixes the structure)" : "") << "\n";
 }
 
 /// A whole-string finite number, or a message (exit 2).
@@ -79,8 +79,7 @@ bool parseNumber(const char *opt, const char *text, double &x) {
 }
 
 /// NAME=VALUE of --param: a known, non-structural parameter.
-bool parseParam(const ldae_model &m, const ldae_bindings &b, const char *text,
-                Args &args) {
+bool parseParam(const ldae_model &m, const char *text, Args &args) {
   const char *eq = std::strchr(text, '=');
   if (!eq) {
     fail(kBadCommandLine,
@@ -102,18 +101,16 @@ bool parseParam(const ldae_model &m, const ldae_bindings &b, const char *text,
                      name, hint));
     return false;
   }
-  if (structural(b, k)) {
+  if (structural(m, k)) {
     fail(kBadCommandLine,
-         fmt::format("--param: parameter '{}' fixes the model's structure "
-                     "(an array size, a branch or a subscript); recompile "
-                     "with ldaec --param {}",
-                     name, text));
+         fmt::format("--param: {}; recompile with ldaec --param {}",
+                     structuralParameterMessage(name), text));
     return false;
   }
   double v;
   if (!parseNumber("--param", eq + 1, v))
     return false;
-  args.params.emplace_back(k, v);
+  args.sim.params[name] = v;
   return true;
 }
 
@@ -143,8 +140,7 @@ bool parseOnOffAuto(const char *opt, const char *text,
 }
 
 /// Fills `args` from argv; false after printing why (exit 2).
-bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
-               char **argv, Args &args) {
+bool parseArgs(const ldae_model &m, int argc, char **argv, Args &args) {
   args.sim.progress = isatty(STDERR_FILENO);
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -185,7 +181,7 @@ bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
     } else if (a == "--algebraic-error-test") {
       ok = parseOnOffAuto(a.c_str(), v, args.sim.algebraicErrorTest);
     } else {
-      ok = parseParam(m, b, v, args);
+      ok = parseParam(m, v, args);
     }
     if (!ok)
       return false;
@@ -193,93 +189,22 @@ bool parseArgs(const ldae_model &m, const ldae_bindings &b, int argc,
   return true;
 }
 
-/// Re-evaluates what reads a changed parameter, as recompiling with
-/// `ldaec --param` would: the bound parameters not given on the command
-/// line (one pass per level of a chain of bindings), then the start values.
-/// Returns the message of a binding outside its domain, or "".
-std::string rebind(const ldae_model &m, const ldae_bindings &b, double t0,
-                   const std::vector<std::pair<int, double>> &given,
-                   std::vector<double> &p, std::vector<double> &y,
-                   const std::vector<double> &yp) {
-  std::vector<char> isGiven(m.n_params, 0);
-  for (auto [k, v] : given) {
-    p[k] = v;
-    isGiven[k] = 1;
-  }
-  if (!b.bind || b.n_bound_params + b.n_bound_starts == 0)
-    return "";
-  std::vector<double> out(b.n_bound_params + b.n_bound_starts);
-  for (int pass = 0; pass <= b.bind_passes; ++pass) {
-    int rc = b.bind(t0, y.data(), yp.data(), p.data(), out.data());
-    if (rc > 0) {
-      int row = rc - 1;
-      return row < b.n_bound_params
-                 ? fmt::format("the binding of parameter '{}' is outside its "
-                               "domain",
-                               m.param_names[b.bound_params[row]])
-                 : fmt::format("the start value of '{}' is outside its "
-                               "domain",
-                               m.var_names[b.bound_starts[row -
-                                                          b.n_bound_params]]);
-    }
-    if (rc != 0)
-      return "the parameter bindings could not be evaluated";
-    if (pass == b.bind_passes)
-      break;
-    for (int j = 0; j < b.n_bound_params; ++j)
-      if (!isGiven[b.bound_params[j]])
-        p[b.bound_params[j]] = out[j];
-  }
-  for (int j = 0; j < b.n_bound_starts; ++j)
-    y[b.bound_starts[j]] = out[b.n_bound_params + j];
-  return "";
-}
-
-/// The columns of `ldaec --simulate` by default: the model's outputs but
-/// the derivatives (empty: every unknown).
-std::vector<std::string> defaultOutputs(const ldae_model &m) {
-  std::vector<std::string> names;
-  for (int i = 0; i < m.n_outputs; ++i)
-    if (std::strncmp(m.output_names[i], "der(", 4) != 0)
-      names.push_back(m.output_names[i]);
-  return names;
-}
-
-int run(const ldae_model &m, const ldae_bindings &b, int argc, char **argv) {
+int run(const ldae_model &m, int argc, char **argv) {
   for (int i = 1; i < argc; ++i)
     if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
-      printUsage(m, b);
+      printUsage(m);
       return kOk;
     }
   Args args;
-  if (!parseArgs(m, b, argc, argv, args))
+  if (!parseArgs(m, argc, argv, args))
     return kBadCommandLine;
-  std::ofstream file;
-  if (args.outPath != "-") {
-    file.open(args.outPath);
-    if (!file)
-      return fail(kBadCommandLine,
-                  fmt::format("cannot write '{}'", args.outPath));
-  }
+  Expected<ResultFormat> format = resultFormat(args.outPath);
+  if (args.outPath != "-" && !std::ofstream(args.outPath))
+    return fail(kBadCommandLine,
+                fmt::format("cannot write '{}'", args.outPath));
 
-  // The model with the changed parameters and start values: the runtime
-  // reads both from the struct.
-  std::vector<double> p(m.param_values, m.param_values + m.n_params);
-  std::vector<double> y(m.start_y, m.start_y + m.n);
-  std::vector<double> yp(m.start_yp, m.start_yp + m.n);
-  double t0 = args.sim.start      ? *args.sim.start
-              : std::isnan(m.start_time) ? 0.0
-                                         : m.start_time;
-  std::string bad = rebind(m, b, t0, args.params, p, y, yp);
-  if (!bad.empty())
-    return fail(kFailed, bad);
-  ldae_model changed = m;
-  changed.param_values = p.data();
-  changed.start_y = y.data();
-
-  args.sim.outputs = defaultOutputs(m);
   args.sim.log = &std::cerr;
-  Expected<SimResult> result = simulate(changed, args.sim);
+  Expected<SimResult> result = simulate(m, args.sim);
   if (!result)
     return fail(kBadCommandLine, result.error());
   int rc = kOk;
@@ -287,10 +212,8 @@ int run(const ldae_model &m, const ldae_bindings &b, int argc, char **argv) {
     fail(kFailed, result->failure);
     rc = kFailed;
   }
-  std::ostream &out = args.outPath == "-" ? std::cout : file;
-  writeCsv(*result, out);
-  if (!out)
-    return fail(kInternal, fmt::format("cannot write '{}'", args.outPath));
+  if (auto written = writeResult(*result, args.outPath, *format); !written)
+    return fail(kInternal, written.error());
   if (args.stats)
     printStats(result->stats, std::cerr);
   return rc;
@@ -301,12 +224,10 @@ int run(const ldae_model &m, const ldae_bindings &b, int argc, char **argv) {
 } // namespace ldae::runtime
 
 extern "C" __attribute__((visibility("default"))) int
-ldae_main(const ldae_model *model, const ldae_bindings *bindings, int argc,
-          char **argv) {
-  static const ldae_bindings none = {};
+ldae_main(const ldae_model *model, int argc, char **argv) {
   // Nothing may leave a C caller as an exception (C has no unwinding).
   try {
-    return ldae::runtime::run(*model, bindings ? *bindings : none, argc, argv);
+    return ldae::runtime::run(*model, argc, argv);
   } catch (const std::bad_alloc &) {
     return ldae::runtime::fail(ldae::runtime::kInternal, "out of memory");
   } catch (const std::exception &e) {

@@ -1,5 +1,7 @@
-// CSV output and column selection by name (see ResultWriter.h).
+// Result files (CSV here, .mat in MatResult.cpp) and column selection by
+// name (see ResultWriter.h).
 #include "ResultWriter.h"
+#include "MatResult.h"
 #include "support/EditDistance.h"
 
 #include <algorithm>
@@ -78,6 +80,31 @@ Expected<bool> writeCsv(const SimResult &result, const std::string &path) {
   if (!f)
     return Error{fmt::format("cannot write '{}'", path)};
   return true;
+}
+
+Expected<ResultFormat> resultFormat(const std::string &path,
+                                    const std::string &forced) {
+  if (forced == "csv")
+    return ResultFormat::Csv;
+  if (forced == "mat")
+    return ResultFormat::Mat;
+  if (!forced.empty())
+    return Error{fmt::format("unknown result format '{}' (csv or mat)",
+                             forced)};
+  const std::string ext = ".mat";
+  bool mat = path.size() > ext.size() &&
+             path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
+  return mat ? ResultFormat::Mat : ResultFormat::Csv;
+}
+
+Expected<bool> writeResult(const SimResult &result, const std::string &path,
+                           ResultFormat format) {
+  if (format == ResultFormat::Csv)
+    return writeCsv(result, path);
+  if (path == "-")
+    return Error{"a .mat result cannot go to standard output; name a file "
+                 "with -o"};
+  return writeMat(result, path);
 }
 
 std::vector<std::string> closeNames(const std::vector<std::string> &available,

@@ -1,5 +1,6 @@
-// Writing simulation results: CSV with a header of names, `.` decimal
-// point and 17 significant digits (round-trips doubles exactly).
+// Writing simulation results (docs/results.md): CSV with a header of
+// names, `.` decimal point and the shortest digits that round-trip, or the
+// .mat layout of OpenModelica and Dymola (MatResult.h).
 #pragma once
 
 #include "ldae/Simulation.h"

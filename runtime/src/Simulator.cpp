@@ -4,11 +4,13 @@
 // grid, switch state sets when the current one's pivot degrades, and keep
 // the results of a failed run.
 #include "Asserts.h"
+#include "Columns.h"
 #include "ConsistentInit.h"
 #include "EventLoop.h"
 #include "FailureReport.h"
 #include "Integrator.h"
 #include "Progress.h"
+#include "Rebind.h"
 #include "ResultWriter.h"
 #include "RootWatch.h"
 #include "SparseInit.h"
@@ -73,19 +75,15 @@ Expected<RunSettings> resolve(const ldae_model &m, const SimOptions &o) {
   return s;
 }
 
-Expected<std::vector<double>> resolveParams(const ldae_model &m,
-                                            const SimOptions &o) {
-  std::vector<double> p(m.param_values, m.param_values + m.n_params);
-  std::vector<std::string> names;
-  for (int i = 0; i < m.n_params; ++i)
-    names.push_back(m.param_names && m.param_names[i] ? m.param_names[i] : "");
-  for (const auto &[name, value] : o.params) {
-    auto it = std::find(names.begin(), names.end(), name);
-    if (it == names.end())
-      return unknownNameError("parameter", name, names);
-    p[it - names.begin()] = value;
-  }
-  return p;
+/// The parameters of a mode's model: the run's, bound again (Rebind.h).
+Expected<std::vector<double>> modeParams(const ldae_model &m,
+                                         const SimOptions &o, double t) {
+  auto bound = bindValues(m, o.params, {}, t);
+  if (!bound)
+    return Error{bound.error()};
+  if (!bound->failure.empty())
+    return Error{bound->failure};
+  return std::move(bound->p);
 }
 
 /// Collects rows and the drift maximum.
@@ -116,8 +114,9 @@ public:
       }
       src = out_.data();
     }
+    const int sources = m_.n_outputs > 0 ? m_.n_outputs : m_.n;
     for (int c : cols_)
-      row.push_back(src[c]);
+      row.push_back(columnValue(c, sources, src, ev_.params()));
     res_.rows.push_back(std::move(row));
     if (m_.n_drift > 0 && m_.drift &&
         m_.drift(t, y, yp, ev_.params(), drift_.data()) == 0)
@@ -412,19 +411,6 @@ bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
                         t, desc(from), desc(to), cond[from], cond[to]);
   }
   return true;
-}
-
-/// The names of the columns a model can report: its outputs, or its
-/// unknowns when it has none.
-std::vector<std::string> availableColumns(const ldae_model &m) {
-  std::vector<std::string> available;
-  for (int i = 0; i < (m.n_outputs > 0 ? m.n_outputs : m.n); ++i) {
-    const char *name = m.n_outputs > 0
-                           ? m.output_names[i]
-                           : (m.var_names ? m.var_names[i] : nullptr);
-    available.push_back(name ? name : fmt::format("y[{}]", i));
-  }
-  return available;
 }
 
 /// The point a mode change hands from one mode's model to the next, by
@@ -888,27 +874,29 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   auto settings = resolve(m, o);
   if (!settings)
     return Error{settings.error()};
-  auto params = resolveParams(m, o);
-  if (!params)
-    return Error{params.error()};
   const RunSettings &s = *settings;
+  // The model as this run changes it: parameters, what they bind, starts.
+  auto bound = bindValues(m, o.params, o.starts, s.start);
+  if (!bound)
+    return Error{bound.error()};
+  const std::vector<double> *params = &bound->p;
+  ldae_model changed = m;
+  changed.param_values = bound->p.data();
+  changed.start_y = bound->y.data();
 
-  std::vector<std::string> available = availableColumns(m);
-  std::vector<int> cols;
-  if (o.outputs.empty()) {
-    for (size_t i = 0; i < available.size(); ++i)
-      cols.push_back(int(i));
-  } else {
-    auto sel = selectColumns(available, o.outputs);
-    if (!sel)
-      return Error{sel.error()};
-    cols = *sel;
-  }
+  auto chosen = chooseColumns(m, o.outputs);
+  if (!chosen)
+    return Error{chosen.error()};
+  std::vector<int> cols = std::move(*chosen);
+  std::vector<std::string> available = Reportable(m).names;
 
   SimResult res;
+  res.model = m.name ? m.name : "";
   res.columns.push_back("time");
   for (int c : cols)
     res.columns.push_back(available[c]);
+  res.info = columnInfo(m, cols);
+  res.params = parameterValues(m, params->data());
   res.stats.n = m.n;
   auto finish = [&]() -> Expected<SimResult> {
     res.stats.wallTime =
@@ -919,14 +907,18 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     return res;
   };
 
+  if (!bound->failure.empty()) {
+    res.failure = fmt::format("t = {:.10g}: {}", s.start, bound->failure);
+    return finish();
+  }
   Run run(o, s, res);
   if (m.n == 0) {
-    run.closedForm(m, *params, cols);
+    run.closedForm(changed, *params, cols);
     return finish();
   }
   // A variable-structure model runs one stage per mode reached, each with
   // the model of its mode, the point carried over by name.
-  const ldae_model *model = &m;
+  const ldae_model *model = &changed;
   std::vector<double> p = *params;
   Carry carry;
   // Mode switches at one time continue one event iteration: the same
@@ -955,8 +947,8 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
       break;
     }
     model = *next;
-    auto np = resolveParams(*model, o);
-    std::vector<std::string> names = availableColumns(*model);
+    auto np = modeParams(*model, o, carry.t);
+    std::vector<std::string> names = Reportable(*model).names;
     std::vector<int> nextCols;
     for (size_t c = 1; c < res.columns.size() && np; ++c) {
       auto it = std::find(names.begin(), names.end(), res.columns[c]);
