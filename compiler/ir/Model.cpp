@@ -1,6 +1,7 @@
 // Model bookkeeping: adding and finding variables and parameters by name,
 // and the user's spelling of variables and their derivatives.
 #include "ir/Model.h"
+#include "ir/Query.h"
 
 #include <cassert>
 
@@ -69,6 +70,27 @@ size_t Model::userParameterCount() const {
   while (n > 0 && parameters[n - 1].discrete)
     --n;
   return n;
+}
+
+std::vector<bool> Model::structuralParameters() const {
+  std::vector<bool> structural(parameters.size(), false);
+  std::vector<ParamId> work;
+  for (ParamId p = 0; p < parameters.size(); ++p)
+    if (parameters[p].structural) {
+      structural[p] = true;
+      work.push_back(p);
+    }
+  while (!work.empty()) {
+    ParamId p = work.back();
+    work.pop_back();
+    if (ExprRef b = parameters[p].binding)
+      for (ParamId q : freeParameters(b))
+        if (q < parameters.size() && !structural[q]) {
+          structural[q] = true;
+          work.push_back(q);
+        }
+  }
+  return structural;
 }
 
 bool Model::verbatimVariable(VarId v) const {

@@ -113,6 +113,15 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
                  DiagnosticEngine &diags, AnalysisResult &result) {
   result = AnalysisResult{};
   result.model = model.name;
+  const std::vector<bool> structural = model.structuralParameters();
+  for (size_t k = 0; k < model.userParameterCount(); ++k) {
+    const ir::Parameter &p = model.parameters[k];
+    if (p.isConstant)
+      continue;
+    result.parameters.push_back(p.name);
+    if (structural[k])
+      result.structuralParameters.push_back(p.name);
+  }
   // The continuous system's counts (the discrete part is the events').
   const std::vector<bool> discrete = ir::discreteVariables(model);
   for (bool d : discrete)

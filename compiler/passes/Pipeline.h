@@ -144,6 +144,11 @@ struct EventsReport {
 
 struct AnalysisResult {
   std::string model;
+  /// The user's parameters (not constants), and those among them whose
+  /// value fixed the structure (a new value needs a recompile; the others
+  /// change at run time without one).
+  std::vector<std::string> parameters;
+  std::vector<std::string> structuralParameters;
   int variables = 0; // continuous unknowns of the flat model
   int equations = 0; // equations of the flat model
   int aliasesRemoved = 0;

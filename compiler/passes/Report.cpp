@@ -190,6 +190,11 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
   out << "  variables:            " << r.variables << "\n";
   out << "  equations:            " << r.equations << "\n";
   out << "  aliases removed:      " << r.aliasesRemoved << "\n";
+  if (!r.structuralParameters.empty())
+    // The others change at run time (--param of an emitted program, the
+    // Python module's simulate(params=...)) without a recompile.
+    out << "  structural parameters: " << joined(r.structuralParameters)
+        << "\n";
   out << "  formal index:         ";
   if (r.formalIndex) {
     out << *r.formalIndex << " (dim R_q^(s):";
@@ -261,6 +266,8 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
 nlohmann::json analysisToJson(const AnalysisResult &r) {
   nlohmann::json j;
   j["model"] = r.model;
+  j["parameters"] = r.parameters;
+  j["structural_parameters"] = r.structuralParameters;
   j["variables"] = r.variables;
   j["equations"] = r.equations;
   j["aliases_removed"] = r.aliasesRemoved;
