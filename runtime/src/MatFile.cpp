@@ -1,18 +1,63 @@
-// MATLAB v4 files through libmatio (see MatFile.h).
+// MATLAB v4 files through libmatio (see MatFile.h). libmatio is loaded
+// when the first file is written, not linked: it brings HDF5, curl, TLS
+// and Kerberos with it (35 shared libraries), which every ldaec process
+// would map at start-up though few write a .mat file (docs/results.md).
 #include "MatFile.h"
 
 #include <algorithm>
+#include <dlfcn.h>
 #include <fmt/format.h>
 #include <matio.h>
 
 namespace ldae::runtime {
+
+namespace {
+
+/// The libmatio functions MatFile uses, resolved once.
+struct Matio {
+  decltype(&Mat_CreateVer) createVer = nullptr;
+  decltype(&Mat_Close) close = nullptr;
+  decltype(&Mat_VarCreate) varCreate = nullptr;
+  decltype(&Mat_VarWrite) varWrite = nullptr;
+  decltype(&Mat_VarFree) varFree = nullptr;
+  std::string error; // why it could not be loaded ("" when loaded)
+};
+
+template <typename F> bool resolve(void *lib, const char *name, F &fn) {
+  fn = reinterpret_cast<F>(dlsym(lib, name));
+  return fn != nullptr;
+}
+
+const Matio &matio() {
+  static const Matio m = [] {
+    Matio m;
+    void *lib = dlopen(LDAE_MATIO_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+      const char *why = dlerror();
+      m.error = fmt::format("cannot load libmatio ({}): {}", LDAE_MATIO_LIBRARY,
+                            why ? why : "unknown error");
+      return m;
+    }
+    if (!resolve(lib, "Mat_CreateVer", m.createVer) ||
+        !resolve(lib, "Mat_Close", m.close) ||
+        !resolve(lib, "Mat_VarCreate", m.varCreate) ||
+        !resolve(lib, "Mat_VarWrite", m.varWrite) ||
+        !resolve(lib, "Mat_VarFree", m.varFree))
+      m.error = fmt::format("{} lacks the functions ldaec writes with",
+                            LDAE_MATIO_LIBRARY);
+    return m;
+  }();
+  return m;
+}
+
+} // namespace
 
 struct MatFile::Handle {
   mat_t *mat = nullptr;
   std::string path;
   ~Handle() {
     if (mat)
-      Mat_Close(mat);
+      matio().close(mat);
   }
 };
 
@@ -22,9 +67,11 @@ MatFile &MatFile::operator=(MatFile &&) noexcept = default;
 MatFile::~MatFile() = default;
 
 Expected<MatFile> MatFile::create(const std::string &path) {
+  if (!matio().error.empty())
+    return Error{fmt::format("cannot write '{}': {}", path, matio().error)};
   auto h = std::make_unique<Handle>();
   h->path = path;
-  h->mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT4);
+  h->mat = matio().createVer(path.c_str(), nullptr, MAT_FT_MAT4);
   if (!h->mat)
     return Error{fmt::format("cannot write '{}'", path)};
   return MatFile(std::move(h));
@@ -36,12 +83,12 @@ namespace {
 bool writeVar(mat_t *mat, const std::string &name, matio_classes cls,
               matio_types type, size_t rows, size_t cols, const void *data) {
   size_t dims[2] = {rows, cols};
-  matvar_t *var = Mat_VarCreate(name.c_str(), cls, type, 2, dims,
-                                const_cast<void *>(data), 0);
+  matvar_t *var = matio().varCreate(name.c_str(), cls, type, 2, dims,
+                                    const_cast<void *>(data), 0);
   if (!var)
     return false;
-  int rc = Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE);
-  Mat_VarFree(var);
+  int rc = matio().varWrite(mat, var, MAT_COMPRESSION_NONE);
+  matio().varFree(var);
   return rc == 0;
 }
 
@@ -53,7 +100,7 @@ Expected<bool> MatFile::writeMatrix(const std::string &name, size_t rows,
   if (!handle_ || !handle_->mat)
     return Error{fmt::format("'{}' is closed", name)};
   if (!writeVar(handle_->mat, name, MAT_C_DOUBLE, MAT_T_DOUBLE, rows, cols,
-                rows * cols ? data : &kNone))
+                rows != 0 && cols != 0 ? data : &kNone))
     return Error{fmt::format("cannot write '{}' to '{}'", name, handle_->path)};
   return true;
 }
@@ -83,7 +130,7 @@ Expected<bool> MatFile::writeStrings(const std::string &name,
 Expected<bool> MatFile::close() {
   if (!handle_ || !handle_->mat)
     return true;
-  int rc = Mat_Close(handle_->mat);
+  int rc = matio().close(handle_->mat);
   handle_->mat = nullptr;
   if (rc != 0)
     return Error{fmt::format("cannot write '{}'", handle_->path)};
