@@ -81,9 +81,13 @@ Expected<std::unique_ptr<CompiledModel>> compile(const ir::DaeSystem &sys,
   choice.jit = opts.jit.value_or(choice.work > kAutoJitWork);
   std::unique_ptr<CompiledModel> model;
   if (choice.jit) {
-    auto code = jitCompile(*plan);
+    auto code = jitCompile(*plan, opts.cacheDir);
     if (!code)
       return Error{code.error()};
+    if ((*code)->cache != CacheUse::None) {
+      choice.cache = (*code)->cache == CacheUse::Hit ? "hit" : "miss";
+      choice.cacheDir = opts.cacheDir;
+    }
     model = std::make_unique<JitModel>(*plan, std::move(*code), choice);
   } else {
     auto interpreted = std::make_unique<InterpretedModel>(std::move(*plan), choice);
@@ -100,6 +104,8 @@ std::string describeBackend(const BackendChoice &choice) {
     line += " (--jit auto: " + std::to_string(choice.work) +
             " operations per evaluation, the JIT above " +
             std::to_string(kAutoJitWork) + ")";
+  if (!choice.cache.empty())
+    line += "\nobject cache: " + choice.cache + " (" + choice.cacheDir + ")";
   return line;
 }
 
@@ -113,9 +119,7 @@ Expected<std::string> emitLlvm(const ir::DaeSystem &sys,
 
 Expected<std::string> emitC(const ir::DaeSystem &sys, bool withMain,
                             const CodegenOptions &opts) {
-  PlanOptions po = planOptions(opts);
-  po.bindings = withMain; // the main's --param re-binds parameters
-  auto plan = lowerToPlan(sys, po);
+  auto plan = lowerToPlan(sys, planOptions(opts));
   if (!plan)
     return Error{plan.error()};
   return printC(*plan, withMain);

@@ -45,10 +45,14 @@ struct BackendChoice {
   bool jit = false;
   bool automatic = false; // chosen by size (`--jit auto`)
   size_t work = 0;        // planWork
+  /// The JIT's object cache: "" unused, else "hit" or "miss".
+  std::string cache;
+  std::string cacheDir;
 };
 
 /// One line for `--stats`: "backend: interpreter (--jit auto: 97
-/// operations per evaluation, the JIT above 20000)".
+/// operations per evaluation, the JIT above 20000)"; a JIT with the object
+/// cache adds a second line: "object cache: hit (/dir)".
 std::string describeBackend(const BackendChoice &choice);
 
 /// Owns the compiled code and every array the ldae_model points into.

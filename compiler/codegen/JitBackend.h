@@ -18,23 +18,30 @@
 
 namespace ldae::codegen {
 
+/// What the object cache (ObjectCache.h) did for one model.
+enum class CacheUse { None, Hit, Miss };
+
 /// Code compiled by the JIT, alive as long as this object.
 class JitCode {
 public:
   virtual ~JitCode() = default;
   /// Address of plan function i.
   virtual uintptr_t address(int i) const = 0;
+  /// Hit: loaded from the object cache, no optimization or code generation.
+  CacheUse cache = CacheUse::None;
 };
 
 /// Bumped when this table or the meaning of a plan changes.
-inline constexpr unsigned kJitBackendVersion = 2;
+inline constexpr unsigned kJitBackendVersion = 3;
 
 /// What the module exports through its one C symbol, kJitEntrySymbol.
 struct JitBackend {
   unsigned version = kJitBackendVersion;
   size_t planSize = sizeof(CodePlan);
   size_t functionSize = sizeof(PlanFunction);
-  Expected<std::unique_ptr<JitCode>> (*compile)(const CodePlan &plan) =
+  /// `cacheDir`: the object cache's directory ("": none).
+  Expected<std::unique_ptr<JitCode>> (*compile)(const CodePlan &plan,
+                                                const std::string &cacheDir) =
       nullptr;
   std::string (*print)(const CodePlan &plan) = nullptr;
 };
@@ -48,8 +55,10 @@ using JitEntry = const JitBackend *(*)();
 /// the build tree. Fails saying where it looked and why it failed.
 Expected<const JitBackend *> loadJitBackend();
 
-/// Emits, optimizes and JIT-compiles every function of `plan`.
-Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan);
+/// Emits, optimizes and JIT-compiles every function of `plan`, or loads
+/// the machine code from the object cache in `cacheDir` ("": no cache).
+Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan,
+                                              const std::string &cacheDir = "");
 
 /// The optimized module of `plan` as LLVM assembly text (`--emit llvm`).
 Expected<std::string> printModule(const CodePlan &plan);

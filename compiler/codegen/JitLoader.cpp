@@ -74,11 +74,12 @@ Expected<const JitBackend *> loadJitBackend() {
   return backend;
 }
 
-Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan) {
+Expected<std::unique_ptr<JitCode>> jitCompile(const CodePlan &plan,
+                                              const std::string &cacheDir) {
   auto backend = loadJitBackend();
   if (!backend)
     return Error{backend.error()};
-  return (*backend)->compile(plan);
+  return (*backend)->compile(plan, cacheDir);
 }
 
 Expected<std::string> printModule(const CodePlan &plan) {

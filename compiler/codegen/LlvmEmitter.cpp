@@ -7,6 +7,9 @@
 // Built into the JIT module, libldae_jit.so (JitBackend.h).
 #include "codegen/LlvmEmitter.h"
 
+#include "codegen/ObjectCache.h"
+
+#include "llvm/ExecutionEngine/Orc/CompileUtils.h"
 #include "llvm/ExecutionEngine/Orc/ExecutionUtils.h"
 #include "llvm/ExecutionEngine/Orc/JITTargetMachineBuilder.h"
 #include "llvm/ExecutionEngine/Orc/LLJIT.h"
@@ -646,6 +649,8 @@ hostMachine(llvm::orc::JITTargetMachineBuilder &jtmb, bool full) {
 
 class LljitCode : public JitCode {
 public:
+  // Declared first, destroyed last: the JIT's compiler points at it.
+  std::unique_ptr<ObjectFileCache> cacheOwner;
   std::unique_ptr<llvm::orc::LLJIT> jit;
   std::vector<uintptr_t> addresses;
   uintptr_t address(int i) const override { return addresses[i]; }
@@ -681,7 +686,8 @@ void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full) {
 
 namespace {
 
-Expected<std::unique_ptr<JitCode>> compileWithLljit(const CodePlan &plan) {
+Expected<std::unique_ptr<JitCode>>
+compileWithLljit(const CodePlan &plan, const std::string &cacheDir) {
   initializeLlvm();
   auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
   if (!jtmb)
@@ -695,9 +701,31 @@ Expected<std::unique_ptr<JitCode>> compileWithLljit(const CodePlan &plan) {
   std::unique_ptr<llvm::Module> m = emitModule(plan, *ctx);
   m->setDataLayout((*tm)->createDataLayout());
   m->setTargetTriple((*tm)->getTargetTriple().str());
-  optimizeModule(*m, **tm, full);
+  // The cache is keyed by the module before optimization, so a hit skips
+  // both the O2 pipeline and code generation.
+  std::unique_ptr<ObjectFileCache> cache;
+  std::unique_ptr<llvm::MemoryBuffer> cached;
+  if (!cacheDir.empty()) {
+    cache = std::make_unique<ObjectFileCache>(cacheDir, *m, **tm, full);
+    cached = cache->load();
+  }
+  if (!cached)
+    optimizeModule(*m, **tm, full);
 
-  auto jit = llvm::orc::LLJITBuilder().setJITTargetMachineBuilder(*jtmb).create();
+  llvm::orc::LLJITBuilder builder;
+  builder.setJITTargetMachineBuilder(*jtmb);
+  if (cache && !cached)
+    builder.setCompileFunctionCreator(
+        [c = cache.get()](llvm::orc::JITTargetMachineBuilder b)
+            -> llvm::Expected<
+                std::unique_ptr<llvm::orc::IRCompileLayer::IRCompiler>> {
+          auto machine = b.createTargetMachine();
+          if (!machine)
+            return machine.takeError();
+          return std::make_unique<llvm::orc::TMOwningSimpleCompiler>(
+              std::move(*machine), c);
+        });
+  auto jit = builder.create();
   if (!jit)
     return toError(jit.takeError());
   llvm::orc::JITDylib &lib = (*jit)->getMainJITDylib();
@@ -707,11 +735,18 @@ Expected<std::unique_ptr<JitCode>> compileWithLljit(const CodePlan &plan) {
   if (!gen)
     return toError(gen.takeError());
   lib.addGenerator(std::move(*gen));
-  if (auto e = (*jit)->addIRModule(
-          llvm::orc::ThreadSafeModule(std::move(m), std::move(ctx))))
+  const bool hit = cached != nullptr;
+  if (hit) {
+    if (auto e = (*jit)->addObjectFile(std::move(cached)))
+      return toError(std::move(e));
+  } else if (auto e = (*jit)->addIRModule(llvm::orc::ThreadSafeModule(
+                 std::move(m), std::move(ctx)))) {
     return toError(std::move(e));
+  }
 
   auto code = std::make_unique<LljitCode>();
+  code->cache = !cache ? CacheUse::None : hit ? CacheUse::Hit : CacheUse::Miss;
+  // The lookups compile the module (on a miss, which stores it).
   for (const PlanFunction &fn : plan.functions) {
     auto addr = (*jit)->lookup(functionSymbol(plan, fn));
     if (!addr)
@@ -719,6 +754,7 @@ Expected<std::unique_ptr<JitCode>> compileWithLljit(const CodePlan &plan) {
     code->addresses.push_back(addr->getValue());
   }
   code->jit = std::move(*jit);
+  code->cacheOwner = std::move(cache);
   return std::unique_ptr<JitCode>(std::move(code));
 }
 

@@ -3,6 +3,8 @@
 // that need everything (unused overrides).
 #include "frontend/Flattener.h"
 
+#include <set>
+
 namespace ldae::frontend {
 
 Flattener::Flattener(ClassTable &classes, DiagnosticEngine &diags,
@@ -26,6 +28,32 @@ bool Flattener::overBudget() {
            {std::to_string(kMaxScalars)});
   }
   return true;
+}
+
+void Flattener::reportUnusedOverrides() {
+  std::vector<std::string> paramNames, startNames;
+  std::set<std::string> varNames;
+  for (const ir::Parameter &p : model_->parameters)
+    paramNames.push_back(p.name);
+  for (const ir::Variable &v : model_->variables) {
+    startNames.push_back(v.name + kStartSuffix);
+    varNames.insert(v.name);
+  }
+  for (const auto &[name, entry] : overrides_) {
+    if (entry.second)
+      continue;
+    // `x.start=...` sets a variable's start value, `p=...` a parameter;
+    // `x=...` for a variable is most likely the former.
+    bool isStart = name.ends_with(kStartSuffix);
+    std::string best = isStart              ? closestName(name, startNames)
+                       : varNames.count(name) ? name + kStartSuffix
+                                              : closestName(name, paramNames);
+    const char *kind = isStart ? "variable" : "parameter";
+    if (best.empty())
+      report(DiagId::ErrUnknownOverride, SourceLoc{}, {name, kind});
+    else
+      report(DiagId::ErrUnknownOverrideSuggest, SourceLoc{}, {name, kind, best});
+  }
 }
 
 std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
@@ -55,18 +83,7 @@ std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
   flattenInstance(*root_);
   buildConnectionEquations();
 
-  std::vector<std::string> paramNames;
-  for (const ir::Parameter &p : model_->parameters)
-    paramNames.push_back(p.name);
-  for (const auto &[name, entry] : overrides_) {
-    if (entry.second)
-      continue;
-    std::string best = closestName(name, paramNames);
-    if (best.empty())
-      report(DiagId::ErrUnknownOverride, SourceLoc{}, {name});
-    else
-      report(DiagId::ErrUnknownOverrideSuggest, SourceLoc{}, {name, best});
-  }
+  reportUnusedOverrides();
   if (diags_.hasErrors())
     return nullptr;
   return std::move(model_);

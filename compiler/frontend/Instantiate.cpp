@@ -682,6 +682,14 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
       v.stateSelect = static_cast<ir::StateSelect>(
           std::clamp(static_cast<int>(*s), 0, 4));
   }
+  // --override x.start=value: replaces the start value as written, and
+  // whatever it was bound to (a fixed start stays fixed).
+  if (auto ov = overrides_.find(name + kStartSuffix); ov != overrides_.end()) {
+    ov->second.second = true;
+    v.start = ov->second.first;
+    v.hasStart = true;
+    v.startBinding = nullptr;
+  }
   v.unit = readUnit(mod, name);
   v.description = node.decl->description;
   bool isFlow = node.flow && (node.isConnector ||

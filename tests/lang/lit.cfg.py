@@ -12,6 +12,10 @@ config.test_exec_root = os.path.join(config.ldaec_obj_root, "tests", "lang")
 
 config.environment["PATH"] = os.pathsep.join(
     [config.ldaec_bin_dir, config.ldaec_tools_dir, config.environment.get("PATH", "")])
+# Compiled models are cached in the build tree, never in the user's cache
+# directory (docs/codegen.md, "The object cache").
+config.environment["LDAEC_CACHE_DIR"] = os.path.join(
+    config.ldaec_obj_root, "tests", "cache")
 if getattr(config, "ldaec_sanitize", False):
     config.available_features.add("asan")
 

@@ -21,32 +21,13 @@
 extern "C" {
 #endif
 
-/* out = the bindings of the bound parameters, then the start values that
-   read parameters, each evaluated over p (see ldae_bindings). */
-typedef int (*ldae_bind_fn)(double t, const double *y, const double *yp,
-                            const double *p, double *out);
-
-/* What a parameter given on the command line changes besides itself. All
-   arrays are indices; NULL is fine where the count is 0. */
-typedef struct ldae_bindings {
-  ldae_bind_fn bind;           /* NULL when nothing is bound */
-  int n_bound_params;
-  const int *bound_params;     /* parameters with a binding (k2 = 3*k) */
-  int n_bound_starts;
-  const int *bound_starts;     /* unknowns whose start value reads p */
-  int bind_passes;             /* passes that settle chains of bindings */
-  const int *structural;       /* n_params: 1 when the value fixed the
-                                  model's structure (cannot change); may
-                                  be NULL (none) */
-} ldae_bindings;
-
-/* Runs the program: `argc`/`argv` as main received them, `bindings` may be
-   NULL (no parameter reads another). Returns the exit code: 0 success,
+/* Runs the program: `argc`/`argv` as main received them. What a changed
+   parameter binds comes from the model (its run-time parameters block).
+   Returns the exit code: 0 success,
    1 an internal error (out of memory, the CSV could not be written),
    2 bad command line (nothing done), 3 numerical failure (the rows up to
    it are written). */
-int ldae_main(const ldae_model *model, const ldae_bindings *bindings, int argc,
-              char **argv);
+int ldae_main(const ldae_model *model, int argc, char **argv);
 
 #ifdef __cplusplus
 }

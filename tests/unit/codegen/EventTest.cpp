@@ -290,17 +290,14 @@ TEST(Events, TablesThatDoNotFitAreRefused) {
             "in outputs: parameter index 20 is out of range");
 }
 
-// The emitted program re-evaluates bindings over its parameters alone
-// (ldae_bindings): a start value that reads a discrete value reads its
-// start there.
+// A run re-evaluates bindings over its parameters alone (ldae_model::bind):
+// a start value that reads a discrete value reads its start there.
 TEST(Events, BindingsReadDiscreteStarts) {
   samples::SampleSystem s = samples::bouncingEvents();
   s.sys.unknowns[0].startBinding =
       s.sys.ctx->add(samples::discreteValue(s.sys, Initial),
                      s.sys.ctx->param(5)); // initial() + hmax
-  PlanOptions opts;
-  opts.bindings = true;
-  auto plan = lowerToPlan(s.sys, opts);
+  auto plan = lowerToPlan(s.sys);
   ASSERT_TRUE(bool(plan)) << plan.error();
   ASSERT_GE(plan->bind, 0);
   ASSERT_EQ(plan->boundStarts, std::vector<int>{0});
