@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""A parameter sweep of the RC circuit (tests/models/rc_circuit.lsd) from
+Python: N members (R over a range) on a local Dask cluster of --workers
+processes, against the same members one after another in this process
+over one compiled model (the reference, same script, same machine).
+
+Reported separately: the cluster's start (processes, scheduler), the
+sweep on the cluster (each worker compiles the model once on its first
+chunk, then runs its members; results come back as arrays), the serial
+run, and their ratio. Each figure is the best of --repeat.
+
+Usage: PYTHONPATH=build/python /usr/bin/python3 bench/run_sweep.py
+           [--members 1000] [--workers 2] [--repeat 3] [--write]
+  --write  writes the table into docs/benchmarks.md ("Python sweep").
+Needs the module (docs/python.md) and Debian's python3-distributed.
+"""
+import argparse
+import os
+import platform
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+MODEL = os.path.join(ROOT, "tests", "models", "rc_circuit.lsd")
+DOC = os.path.join(ROOT, "docs", "benchmarks.md")
+sys.path.insert(0, HERE)
+from benchdoc import write_section  # noqa: E402
+
+
+def serial(ldaec, members, run):
+    """Compile once, then every member in turn: (compile s, run s)."""
+    t0 = time.perf_counter()
+    m = ldaec.compile(MODEL, cache=False)
+    t1 = time.perf_counter()
+    for p in members:
+        r = m.simulate(params=p, **run)
+        assert r.status == 0, r.diagnostics
+    return t1 - t0, time.perf_counter() - t1
+
+
+def on_dask(ldaec, distributed, members, run, workers):
+    """(cluster start s, sweep s) on a fresh local cluster."""
+    t0 = time.perf_counter()
+    cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1,
+                                       processes=True, dashboard_address=None)
+    client = distributed.Client(cluster)
+    client.wait_for_workers(workers)
+    t1 = time.perf_counter()
+    try:
+        result = ldaec.sweep(MODEL, members, client=client, cache=False,
+                             progress=False, **run)
+        t2 = time.perf_counter()
+        assert not result.failed, result.summary()
+        assert result["capacitor.v"].shape[0] == len(members)
+    finally:
+        client.close()
+        cluster.close()
+    return t1 - t0, t2 - t1
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--members", type=int, default=1000)
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--write", "--doc", action="store_true")
+    args = ap.parse_args()
+    import distributed
+    import ldaec
+
+    n = args.members
+    members = [{"R": 50 + 100 * k / max(1, n - 1)} for k in range(n)]
+    run = {"stop": 0.5}
+    compile_s, serial_s = min(serial(ldaec, members, run)
+                              for _ in range(args.repeat))
+    dask = [on_dask(ldaec, distributed, members, run, args.workers)
+            for _ in range(args.repeat)]
+    start_s = min(d[0] for d in dask)
+    sweep_s = min(d[1] for d in dask)
+    cores = os.cpu_count()
+    section = f"""## Python sweep
+
+`bench/run_sweep.py{' --write' if args.write else ''}` ({platform.node()}, {cores} cores):
+{n} members of the RC circuit (tests/models/rc_circuit.lsd, R from 50 to
+150, to t = 0.5, 101 output rows each), best of {args.repeat}. Serial: one
+compiled model run {n} times in one process (`Model.simulate`). Dask: a
+local cluster of {args.workers} worker processes (`ldaec.sweep`, each
+worker compiling the model once, members in chunks, results stacked into
+arrays on the client).
+
+| | seconds | per member |
+|---|---:|---:|
+| compile once (serial) | {compile_s:.3f} | |
+| serial, {n} members | {serial_s:.3f} | {serial_s / n * 1e3:.3f} ms |
+| Dask cluster start ({args.workers} workers) | {start_s:.3f} | |
+| Dask sweep, {n} members (compiles included) | {sweep_s:.3f} | {sweep_s / n * 1e3:.3f} ms |
+
+Sweep on Dask vs serial: {serial_s / sweep_s:.2f}x faster (cluster start
+excluded; {serial_s / (sweep_s + start_s):.2f}x with it).
+"""
+    if args.write:
+        os.environ["LDAE_BENCH_DOC"] = "1"
+    write_section(DOC, "Python sweep", section)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,340 @@
+"""Parameter sweeps and Monte Carlo ensembles on Dask (docs/python.md,
+"Sweeps").
+
+The members go to the workers in chunks (one task per chunk, not per
+member); each worker process compiles the model once, on its first chunk,
+and keeps it in a per-process cache keyed by the file's path, a hash of
+its content and the compile options, so later chunks (and later sweeps on
+the same cluster) only run it. A member that fails (a numerical failure,
+a bad value) is reported with its parameters and the command's
+diagnostics; the others are kept. Results come back as numpy arrays,
+stacked over members when the output grids agree.
+"""
+import hashlib
+import itertools
+import math
+import os
+import sys
+import tempfile
+import threading
+import time
+
+import numpy as np
+
+from .errors import LdaecError, UsageError
+from .model import Model, format_value
+
+# ---- the members ------------------------------------------------------------
+
+
+def members_of(params):
+    """A dict of lists is a grid (every combination, the first name varying
+    slowest, as ``ldaec --sweep``); a list of dicts is a list of samples
+    (Monte Carlo). A scalar in a grid is an axis of one value."""
+    if isinstance(params, dict):
+        names = list(params)
+        axes = [list(np.atleast_1d(params[n]).tolist()) for n in names]
+        return [dict(zip(names, combo)) for combo in itertools.product(*axes)]
+    members = list(params)
+    if not all(isinstance(m, dict) for m in members):
+        raise UsageError("error: params must be a dict of lists (a grid) or "
+                         "a list of dicts (samples)\n")
+    return [dict(m) for m in members]
+
+
+def _chunks(items, size):
+    return [items[i:i + size] for i in range(0, len(items), size)]
+
+
+# ---- on a worker --------------------------------------------------------------
+
+_MODELS = {}
+_MODELS_LOCK = threading.Lock()
+
+
+def _source_path(spec):
+    """The model file on this machine: the client's path when it holds the
+    same text, else a copy of the text (a worker on another machine)."""
+    path = spec["path"]
+    try:
+        with open(path, "rb") as f:
+            if hashlib.sha256(f.read()).hexdigest() == spec["hash"]:
+                return path
+    except OSError:
+        pass
+    folder = os.path.join(tempfile.gettempdir(), "ldaec-sweep", spec["hash"])
+    os.makedirs(folder, exist_ok=True)
+    copy = os.path.join(folder, os.path.basename(path))
+    if not os.path.exists(copy):
+        scratch = copy + f".{os.getpid()}"
+        with open(scratch, "wb") as f:
+            f.write(spec["source"])
+        os.replace(scratch, copy)
+    return copy
+
+
+def worker_model(spec):
+    """This process's compiled model for `spec`, compiled on first use."""
+    key = (spec["path"], spec["hash"], spec["compile_key"])
+    with _MODELS_LOCK:
+        model = _MODELS.get(key)
+        if model is None:
+            model = Model(_source_path(spec), **spec["compile"])
+            _MODELS[key] = model
+        return model
+
+
+def compile_count():
+    """Compiles done in this process by sweeps (what the tests check)."""
+    with _MODELS_LOCK:
+        return sum(m.compile_count for m in _MODELS.values())
+
+
+def _run_member(model, spec, index, member):
+    record = {"index": index, "params": member, "status": 0,
+              "diagnostics": "", "time": None, "values": None,
+              "recompiled": False, "wall_time": 0.0}
+    try:
+        r = model.simulate(params=member, **spec["run"])
+    except LdaecError as e:
+        record["status"] = e.exit_code
+        record["diagnostics"] = e.diagnostics
+        return record
+    record.update(status=r.status, diagnostics=r.diagnostics,
+                  time=r.time.copy(), values=r.data[:, 1:].copy(),
+                  names=r.names, units={n: r.units[n] for n in r.names},
+                  recompiled=r.recompiled, wall_time=r.stats["wall_time"])
+    if spec["write_dir"]:
+        path = os.path.join(spec["write_dir"],
+                            f"member_{index:06d}.{spec['write_format']}")
+        try:
+            r.write(path)
+            record["file"] = path
+        except LdaecError as e:
+            record["diagnostics"] += e.diagnostics
+    return record
+
+
+def run_chunk(spec, chunk):
+    """Runs the members of one task: [(index, params)] -> [record]."""
+    try:
+        model = worker_model(spec)
+    except LdaecError as e:
+        return [{"index": i, "params": m, "status": e.exit_code,
+                 "diagnostics": e.diagnostics, "time": None, "values": None,
+                 "recompiled": False, "wall_time": 0.0} for i, m in chunk]
+    return [_run_member(model, spec, i, m) for i, m in chunk]
+
+
+# ---- the result ---------------------------------------------------------------
+
+
+class SweepResult:
+    """The members' outcomes.
+
+    ``params[name]`` and ``status`` are arrays over members (in the order
+    of the grid or the samples); ``time`` the common output grid and
+    ``values[name]`` a (members x times) array when the members' grids
+    agree (a member that failed has NaN after its last row), else None
+    (each member's own arrays are in ``members``). ``failed`` lists the
+    members that did not finish, each with its parameters and the
+    command's diagnostics.
+    """
+
+    def __init__(self, records, setup_seconds, run_seconds):
+        self.members = sorted(records, key=lambda r: r["index"])
+        self.setup_seconds = setup_seconds
+        self.run_seconds = run_seconds
+        names = []
+        for r in self.members:
+            names += [n for n in r["params"] if n not in names]
+        self.params = {n: np.array([r["params"].get(n, np.nan)
+                                    for r in self.members], dtype=float)
+                       for n in names}
+        self.status = np.array([r["status"] for r in self.members], dtype=int)
+        self.failed = [r for r in self.members if r["status"] != 0]
+        self.time, self.values, self.names, self.units = None, None, [], {}
+        self._stack()
+
+    def _stack(self):
+        ran = [r for r in self.members if r["time"] is not None]
+        if not ran:
+            return
+        grid = max((r["time"] for r in ran), key=len)
+        names = ran[0]["names"]
+        if any(r["names"] != names or
+               not np.array_equal(r["time"], grid[:len(r["time"])])
+               for r in ran):
+            return
+        self.names, self.units, self.time = names, ran[0]["units"], grid
+        cube = np.full((len(self.members), len(grid), len(names)), np.nan)
+        for k, r in enumerate(self.members):
+            if r["values"] is not None:
+                cube[k, :r["values"].shape[0], :] = r["values"]
+        self.values = {n: cube[:, :, j] for j, n in enumerate(names)}
+
+    def __getitem__(self, name):
+        if self.values is None:
+            raise KeyError("the members' output grids differ: use "
+                           "result.members[k]['values']")
+        return self.values[name]
+
+    def __len__(self):
+        return len(self.members)
+
+    def __repr__(self):
+        return (f"<ldaec.SweepResult {len(self)} members, "
+                f"{len(self.failed)} failed>")
+
+    def summary(self):
+        """One line per failed member: its index, parameters, diagnostics."""
+        lines = []
+        for r in self.failed:
+            values = ", ".join(f"{k}={format_value(v)}"
+                               for k, v in r["params"].items())
+            lines.append(f"member {r['index']} ({values}): status "
+                         f"{r['status']}\n{r['diagnostics'].rstrip()}")
+        return "\n".join(lines)
+
+
+# ---- the client ---------------------------------------------------------------
+
+
+class _Progress:
+    """A counter on stderr, rewritten in place on a terminal."""
+
+    def __init__(self, total, enabled):
+        self.total, self.done, self.failed = total, 0, 0
+        self.enabled = enabled
+        self.tty = enabled and sys.stderr.isatty()
+        self.last = 0.0
+
+    def add(self, records):
+        self.done += len(records)
+        self.failed += sum(r["status"] != 0 for r in records)
+        now = time.monotonic()
+        if not self.enabled or (now - self.last < 0.5 and
+                                self.done < self.total):
+            return
+        self.last = now
+        text = f"ldaec.sweep: {self.done}/{self.total} members"
+        if self.failed:
+            text += f" ({self.failed} failed)"
+        end = "\r" if self.tty and self.done < self.total else "\n"
+        sys.stderr.write(text + end)
+        sys.stderr.flush()
+
+
+def _spec(model, compile_options, run, write_dir, write_format):
+    if isinstance(model, Model):
+        path = model.path
+        compile_options = dict(model=model.model_name, method=model.method,
+                               outputs=model.outputs, jit=model.jit,
+                               overrides=model.overrides,
+                               cache=model.cache_dir or False)
+    else:
+        path = os.fspath(model)
+    path = os.path.abspath(path)
+    try:
+        with open(path, "rb") as f:
+            source = f.read()
+    except OSError as e:
+        raise UsageError(f"error: cannot read '{path}': {e.strerror}\n") \
+            from None
+    if write_dir:
+        write_dir = os.path.abspath(os.fspath(write_dir))
+        os.makedirs(write_dir, exist_ok=True)
+    return {"path": path, "source": source,
+            "hash": hashlib.sha256(source).hexdigest(),
+            "compile": compile_options,
+            "compile_key": repr(sorted(compile_options.items())),
+            "run": run, "write_dir": write_dir, "write_format": write_format}
+
+
+def _write_index(write_dir, result):
+    """members.csv: index, parameters, status, file of every member."""
+    names = list(result.params)
+    with open(os.path.join(write_dir, "members.csv"), "w") as f:
+        f.write(",".join(["member"] + names + ["status", "file"]) + "\n")
+        for r in result.members:
+            cells = [str(r["index"])]
+            cells += [format_value(r["params"][n]) if n in r["params"] else ""
+                      for n in names]
+            cells += [str(r["status"]), os.path.basename(r.get("file", ""))]
+            f.write(",".join(cells) + "\n")
+
+
+def sweep(model, params, *, scheduler=None, client=None, n_workers=None,
+          chunk_size=None, progress=True, write_dir=None, write_format="mat",
+          model_name=None, method="dd", outputs=None, jit="auto",
+          overrides=None, cache=True, **run):
+    """Runs ``model`` (a .lsd path or an ldaec.Model) once per member of
+    ``params`` and returns a SweepResult.
+
+    ``scheduler``: None starts a local cluster of ``n_workers`` processes
+    (default: the machine's cores) for this call; ``"tcp://host:8786"``
+    uses a running Dask scheduler; ``"serial"`` runs the members one after
+    another in this process (no Dask). ``client``: an existing
+    distributed.Client (its cluster is kept). ``run`` are Model.simulate's
+    arguments (stop, t0, rtol, atol, interval, start, integrator, ...);
+    the compile arguments are ldaec.compile's. ``write_dir`` writes each
+    member's result file there (``member_000042.mat``, or .csv with
+    ``write_format="csv"``) and an index ``members.csv``.
+    """
+    if "params" in run:
+        raise UsageError("error: the swept parameters are sweep's params=\n")
+    compile_options = dict(model=model_name, method=method, outputs=outputs,
+                           jit=jit, overrides=overrides, cache=cache)
+    spec = _spec(model, compile_options, run, write_dir, write_format)
+    members = list(enumerate(members_of(params)))
+    counter = _Progress(len(members), progress)
+    t0 = time.perf_counter()
+
+    if scheduler == "serial":
+        setup = time.perf_counter() - t0
+        records = []
+        for chunk in _chunks(members, 64):
+            batch = run_chunk(spec, chunk)
+            counter.add(batch)
+            records += batch
+        result = SweepResult(records, setup, time.perf_counter() - t0 - setup)
+    else:
+        result = _on_dask(spec, members, scheduler, client, n_workers,
+                          chunk_size, counter, t0)
+    if spec["write_dir"]:
+        _write_index(spec["write_dir"], result)
+    return result
+
+
+def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
+             counter, t0):
+    import distributed
+
+    owned = []
+    try:
+        if client is None:
+            if scheduler is None:
+                cluster = distributed.LocalCluster(
+                    n_workers=n_workers or os.cpu_count() or 1,
+                    threads_per_worker=1, processes=True,
+                    dashboard_address=None)
+                owned.append(cluster)
+                client = distributed.Client(cluster)
+            else:
+                client = distributed.Client(scheduler)
+            owned.insert(0, client)
+        workers = max(1, len(client.scheduler_info()["workers"]))
+        setup = time.perf_counter() - t0
+        size = chunk_size or max(1, min(256, math.ceil(
+            len(members) / (8 * workers))))
+        futures = [client.submit(run_chunk, spec, chunk, pure=False)
+                   for chunk in _chunks(members, size)]
+        records = []
+        for future in distributed.as_completed(futures):
+            batch = future.result()
+            counter.add(batch)
+            records += batch
+        return SweepResult(records, setup, time.perf_counter() - t0 - setup)
+    finally:
+        for thing in owned:
+            thing.close()

@@ -1,0 +1,92 @@
+"""Sweeps on a local Dask cluster of two worker processes: a grid with a
+member that fails (reported with its parameters and diagnostics, the
+others kept), the model compiled once per worker, results stacked over
+members, result files per member; samples; the serial scheduler."""
+import csv
+import os
+
+import numpy as np
+import pytest
+
+import ldaec
+from conftest import RC, model
+
+distributed = pytest.importorskip("distributed")
+
+BLOWUP = model("blowup.lsd")
+X0 = [0.2, 0.5, 2.0, 0.8, 0.1, 0.4]  # 2.0 blows up at t = 0.5 < stop = 1
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1,
+                                  processes=True, dashboard_address=None) as c:
+        yield c
+
+
+def check_blowup(result):
+    assert len(result) == len(X0)
+    np.testing.assert_array_equal(result.params["x0"], X0)
+    assert list(result.status) == [0, 0, 3, 0, 0, 0]
+    [bad] = result.failed
+    assert bad["params"] == {"x0": 2.0} and bad["index"] == 2
+    assert "error: " in bad["diagnostics"]
+    assert "x0=2.0" in result.summary()
+    t = result.time
+    assert t[0] == 0 and t[-1] == pytest.approx(1)
+    x = result["x"]
+    assert x.shape == (len(X0), len(t))
+    for k, x0 in enumerate(X0):
+        if x0 < 1:
+            np.testing.assert_allclose(x[k], x0 / (1 - x0 * t), rtol=1e-5)
+    assert np.isnan(x[2, -1]) and not np.isnan(x[2, 0])
+
+
+def test_grid_on_two_workers(cluster, capsys):
+    result = ldaec.sweep(BLOWUP, {"x0": X0},
+                         scheduler=cluster.scheduler_address, cache=False)
+    check_blowup(result)
+    assert "ldaec.sweep: 6/6 members (1 failed)" in capsys.readouterr().err
+    with distributed.Client(cluster) as client:
+        counts = client.run(ldaec.sweep_compile_count)
+    # Compiled once per worker that ran a chunk, not once per member.
+    assert len(counts) == 2
+    assert all(c <= 1 for c in counts.values()) and sum(counts.values()) >= 1
+
+
+def test_samples_and_files(cluster, tmp_path):
+    samples = [{"x0": x0} for x0 in X0]
+    with distributed.Client(cluster) as client:
+        result = ldaec.sweep(BLOWUP, samples, client=client, cache=False,
+                             chunk_size=1, write_dir=tmp_path,
+                             write_format="csv", progress=False)
+        counts = client.run(ldaec.sweep_compile_count)
+    check_blowup(result)
+    # The same model and options as the test above: nothing compiled again.
+    assert all(c <= 1 for c in counts.values())
+    rows = list(csv.DictReader(open(tmp_path / "members.csv")))
+    assert [float(r["x0"]) for r in rows] == X0
+    assert [r["status"] for r in rows] == ["0", "0", "3", "0", "0", "0"]
+    header = (tmp_path / "member_000000.csv").read_text().splitlines()[0]
+    assert header.startswith("time,")
+
+
+def test_grid_of_two_parameters_serial():
+    result = ldaec.sweep(RC, {"R": [50, 100], "C": [1e-3, 2e-3, 4e-3]},
+                         scheduler="serial", cache=False, progress=False,
+                         rtol=1e-8, atol=1e-10)
+    assert len(result) == 6 and not result.failed
+    # The first name varies slowest, as `ldaec --sweep`.
+    assert list(result.params["R"]) == [50, 50, 50, 100, 100, 100]
+    v = result["capacitor.v"]
+    for k in range(6):
+        rc = result.params["R"][k] * result.params["C"][k]
+        np.testing.assert_allclose(v[k], 2 * (1 - np.exp(-result.time / rc)),
+                                   atol=1e-6)
+
+
+def test_default_local_cluster():
+    result = ldaec.sweep(BLOWUP, {"x0": [0.5, 2.0]}, n_workers=2,
+                         cache=False, progress=False)
+    assert list(result.status) == [0, 3]
+    assert result.setup_seconds > 0
