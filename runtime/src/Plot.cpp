@@ -114,16 +114,30 @@ double scaleOf(const SimResult &r, size_t c) {
   return s;
 }
 
+/// Whether column `c` keeps its first value all run long.
+bool isConstant(const SimResult &r, size_t c) {
+  for (const std::vector<double> &row : r.rows)
+    if (row[c] != r.rows.front()[c])
+      return false;
+  return true;
+}
+
 /// The curves drawn when none are named: the continuous variables, else
-/// the discrete ones.
-std::vector<int> defaultCurves(const SimResult &r) {
+/// the discrete ones; those that stay constant go to `constant` unless
+/// every one does.
+std::vector<int> defaultCurves(const SimResult &r,
+                               std::vector<std::string> &constant) {
   for (ColumnKind kind : {ColumnKind::Continuous, ColumnKind::Discrete}) {
-    std::vector<int> cols;
+    std::vector<int> varying, fixed;
     for (size_t c = 1; c < r.columns.size(); ++c)
       if (kindOf(r, c) == kind && !isAlias(r, c))
-        cols.push_back(int(c));
-    if (!cols.empty())
-      return cols;
+        (isConstant(r, c) ? fixed : varying).push_back(int(c));
+    if (varying.empty())
+      varying.swap(fixed);
+    for (int c : fixed)
+      constant.push_back(r.columns[c]);
+    if (!varying.empty())
+      return varying;
   }
   return {};
 }
@@ -182,9 +196,10 @@ std::vector<std::vector<int>> splitByScale(const SimResult &r,
 
 Expected<PlotPlan> planPlot(const SimResult &result,
                             const std::vector<std::string> &columns) {
+  PlotPlan plan;
   std::vector<int> cols;
   if (columns.empty()) {
-    cols = defaultCurves(result);
+    cols = defaultCurves(result, plan.constant);
     if (cols.empty())
       return Error{"nothing to plot: the result has no continuous or "
                    "discrete variable (name the columns to plot)"};
@@ -209,7 +224,6 @@ Expected<PlotPlan> planPlot(const SimResult &result,
     else
       g->second.push_back(c);
   }
-  PlotPlan plan;
   for (const auto &[unit, members] : groups)
     for (const std::vector<int> &scaled : splitByScale(result, members))
       for (size_t at = 0; at < scaled.size(); at += kPlotCurvesPerPanel) {
@@ -263,22 +277,32 @@ Expected<std::string> terminalFor(const std::string &path, size_t panels) {
                            path)};
 }
 
-/// Says which curves the caps left out and how to draw them.
-void noteLeftOut(const std::vector<std::string> &leftOut,
-                 std::ostream &notes) {
-  if (leftOut.empty())
-    return;
+/// "a, b, c and 4 more": the first names of `names`.
+std::string someNames(const std::vector<std::string> &names) {
   const size_t shown = 10;
-  std::string names;
-  for (size_t i = 0; i < leftOut.size() && i < shown; ++i)
-    names += (i ? ", " : "") + leftOut[i];
-  if (leftOut.size() > shown)
-    names += fmt::format(" and {} more", leftOut.size() - shown);
-  notes << fmt::format(
-      "note: the plot leaves out {} curve{} ({} at most per panel, {} "
-      "panels): {}; name the curves to plot (--outputs) to see them\n",
-      leftOut.size(), leftOut.size() == 1 ? "" : "s", kPlotCurvesPerPanel,
-      kPlotPanels, names);
+  std::string text;
+  for (size_t i = 0; i < names.size() && i < shown; ++i)
+    text += (i ? ", " : "") + names[i];
+  if (names.size() > shown)
+    text += fmt::format(" and {} more", names.size() - shown);
+  return text;
+}
+
+/// Says which curves the plot left out and how to draw them.
+void noteLeftOut(const PlotPlan &plan, std::ostream &notes) {
+  const char *howTo = "name the curves to plot (--outputs) to see them";
+  if (!plan.leftOut.empty())
+    notes << fmt::format(
+        "note: the plot leaves out {} curve{} ({} at most per panel, {} "
+        "panels): {}; {}\n",
+        plan.leftOut.size(), plan.leftOut.size() == 1 ? "" : "s",
+        kPlotCurvesPerPanel, kPlotPanels, someNames(plan.leftOut), howTo);
+  if (!plan.constant.empty())
+    notes << fmt::format(
+        "note: the plot leaves out {} curve{} that stay{} constant: {}; {}\n",
+        plan.constant.size(), plan.constant.size() == 1 ? "" : "s",
+        plan.constant.size() == 1 ? "s" : "", someNames(plan.constant),
+        howTo);
 }
 
 /// The gnuplot script drawing `plan` from `dat` (time, then the plan's
@@ -364,7 +388,7 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
     return Error{fmt::format("cannot run gnuplot: {}", text)};
   if (rc != 0)
     return Error{fmt::format("gnuplot failed on '{}': {}", script, text)};
-  noteLeftOut(plan->leftOut, notes);
+  noteLeftOut(*plan, notes);
   return true;
 }
 

@@ -33,12 +33,15 @@ struct PlotPlan {
   std::vector<PlotPanel> panels;
   /// Curves over the caps (kPlotCurvesPerPanel, kPlotPanels), model order.
   std::vector<std::string> leftOut;
+  /// Default curves left out because they stay constant (a ground's
+  /// potential), model order.
+  std::vector<std::string> constant;
 };
 
 /// The panels for `columns` of `result` (names; empty: the continuous
 /// variables, neither parameters nor derivatives nor aliases of another
-/// column, or the discrete ones when there are none). An Error for an
-/// unknown name or nothing to draw.
+/// column nor, unless all are, constant ones; or the discrete ones when
+/// there are none). An Error for an unknown name or nothing to draw.
 Expected<PlotPlan> planPlot(const SimResult &result,
                             const std::vector<std::string> &columns = {});
 

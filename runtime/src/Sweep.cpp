@@ -15,6 +15,7 @@
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -148,6 +149,49 @@ sweepMembers(const std::vector<SweepAxis> &axes) {
   }
 }
 
+namespace {
+
+/// The progress lines and members' logs of one sweep, written whole under
+/// one lock as members finish. A log line already written for an earlier
+/// member (the same initialization report a thousand times) is not
+/// repeated.
+class SweepReport {
+public:
+  SweepReport(size_t members, std::ostream *progress, std::ostream *log)
+      : members_(members), progress_(progress), log_(log) {}
+
+  void finished(size_t k, const SweepMember &m, double seconds,
+                const std::string &log) {
+    const Expected<SimResult> &r = m.result;
+    std::string failure = !r ? r.error() : r->status != 0 ? r->failure : "";
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++done_;
+    if (progress_)
+      *progress_ << fmt::format(
+          "sweep: {} of {} done; member {} ({}) {}\n", done_, members_, k + 1,
+          describe(m.params),
+          failure.empty() ? fmt::format("ok ({:.3g} s)", seconds)
+                          : "failed: " + firstLine(failure));
+    if (!log_)
+      return;
+    // The rest of a failure's message (its hint) belongs to the log.
+    size_t rest = failure.find('\n');
+    std::istringstream lines(
+        log + (rest == std::string::npos ? "" : failure.substr(rest + 1)));
+    for (std::string line; std::getline(lines, line);)
+      if (seen_.insert(line).second)
+        *log_ << fmt::format("member {}: {}\n", k + 1, line);
+  }
+
+private:
+  std::mutex mutex_;
+  size_t done_ = 0, members_;
+  std::ostream *progress_, *log_;
+  std::set<std::string> seen_;
+};
+
+} // namespace
+
 std::vector<SweepMember>
 runSweep(const std::function<Expected<SimResult>(const SimOptions &)> &simulate,
          const SimOptions &base,
@@ -158,8 +202,7 @@ runSweep(const std::function<Expected<SimResult>(const SimOptions &)> &simulate,
                             : std::max(1u, std::thread::hardware_concurrency());
   threads = std::min(threads, members.size());
   std::atomic<size_t> next{0};
-  std::mutex reportMutex; // progress lines and member logs
-  size_t done = 0;
+  SweepReport report(members.size(), progress, base.log);
   auto work = [&] {
     for (size_t k; (k = next.fetch_add(1)) < members.size();) {
       auto t0 = std::chrono::steady_clock::now();
@@ -171,26 +214,11 @@ runSweep(const std::function<Expected<SimResult>(const SimOptions &)> &simulate,
         opts.log = &log;
       out[k].params = members[k];
       out[k].result = runMember(simulate, opts);
-      double seconds = std::chrono::duration<double>(
-                           std::chrono::steady_clock::now() - t0)
-                           .count();
-      std::lock_guard<std::mutex> lock(reportMutex);
-      ++done;
-      if (progress) {
-        const Expected<SimResult> &r = out[k].result;
-        std::string outcome =
-            !r                ? "failed: " + firstLine(r.error())
-            : r->status != 0  ? "failed: " + firstLine(r->failure)
-                              : fmt::format("ok ({:.3g} s)", seconds);
-        *progress << fmt::format("sweep: {} of {} done; member {} ({}) {}\n",
-                                 done, members.size(), k + 1,
-                                 describe(members[k]), outcome);
-      }
-      if (base.log) {
-        std::istringstream lines(log.str());
-        for (std::string line; std::getline(lines, line);)
-          *base.log << fmt::format("member {}: {}\n", k + 1, line);
-      }
+      report.finished(k, out[k],
+                      std::chrono::duration<double>(
+                          std::chrono::steady_clock::now() - t0)
+                          .count(),
+                      log.str());
     }
   };
   std::vector<std::thread> pool;
@@ -242,14 +270,22 @@ std::vector<std::string> sweptNames(const std::vector<SweepMember> &members) {
   return names;
 }
 
+/// The long table. A parameter column of the result that is also swept
+/// is written once, among the swept ones: a reader keys columns by name.
 Expected<bool> writeSweepCsv(const std::vector<SweepMember> &members,
                              const std::vector<std::string> &columns,
                              std::ostream &out) {
+  std::vector<std::string> swept = sweptNames(members);
   std::string header = "member";
-  for (const std::string &name : sweptNames(members))
+  for (const std::string &name : swept)
     header += "," + name;
-  for (const std::string &c : columns)
-    header += "," + c;
+  std::vector<size_t> kept;
+  for (size_t c = 0; c < columns.size(); ++c)
+    if (c == 0 || std::find(swept.begin(), swept.end(), columns[c]) ==
+                      swept.end()) {
+      kept.push_back(c);
+      header += "," + columns[c];
+    }
   out << header << '\n';
   for (size_t k = 0; k < members.size(); ++k) {
     if (!members[k].result)
@@ -259,8 +295,8 @@ Expected<bool> writeSweepCsv(const std::vector<SweepMember> &members,
       prefix += "," + formatValue(entry.second);
     for (const std::vector<double> &row : members[k].result->rows) {
       std::string line = prefix;
-      for (double v : row)
-        line += "," + formatValue(v);
+      for (size_t c : kept)
+        line += "," + formatValue(row[c]);
       out << line << '\n';
     }
   }

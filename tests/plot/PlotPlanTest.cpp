@@ -89,12 +89,32 @@ TEST(PlotPlan, TwoDecadesApartSplitMoreDoNot) {
                             {"b", Cont, "V", 0.011},
                             {"c", Cont, "V", 0.009},
                             {"zero", Cont, "V", 0}});
-  auto plan = planPlot(r);
+  auto plan = planPlot(r, {"a", "b", "c", "zero"});
   ASSERT_TRUE(plan);
   ASSERT_EQ(plan->panels.size(), 2u);
   EXPECT_EQ(names(r, plan->panels[0]), (V{"a", "b"}));
   // A curve that stays zero joins the smallest scale.
   EXPECT_EQ(names(r, plan->panels[1]), (V{"c", "zero"}));
+}
+
+TEST(PlotPlan, ConstantCurvesLeftOutByDefault) {
+  SimResult r = makeResult({{"ground.p.v", Cont, "V", 0},
+                            {"C.v", Cont, "V", 1},
+                            {"ground.p.i", Cont, "A", 0}});
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), 1u);
+  EXPECT_EQ(names(r, plan->panels[0]), (V{"C.v"}));
+  EXPECT_EQ(plan->constant, (V{"ground.p.v", "ground.p.i"}));
+  // Named, or when every curve is constant, they are drawn.
+  auto named = planPlot(r, {"ground.p.v", "C.v"});
+  ASSERT_TRUE(named);
+  EXPECT_EQ(names(r, named->panels[0]), (V{"ground.p.v", "C.v"}));
+  EXPECT_TRUE(named->constant.empty());
+  SimResult flat = makeResult({{"x", Cont, "", 0}});
+  auto all = planPlot(flat);
+  ASSERT_TRUE(all);
+  EXPECT_EQ(names(flat, all->panels[0]), (V{"x"}));
 }
 
 TEST(PlotPlan, CapsCurvesAndPanels) {

@@ -89,9 +89,13 @@ def check_outputs(ldaec, model, d):
     plot(ldaec, model, path, "--outputs", "capacitor.v,inductor.i,resistor.R")
     with open(path + ".gp") as f:
         drawn = panels(f.read())
-    assert drawn == [("capacitor.v [V]", ["capacitor.v"]),
-                     ("inductor.i [A]", ["inductor.i"]),
-                     ("resistor.R [Ohm]", ["resistor.R"])], drawn
+    # One panel a unit, in model order; the parameter too, since it was
+    # asked for.
+    assert sorted(drawn) == [("capacitor.v [V]", ["capacitor.v"]),
+                             ("inductor.i [A]", ["inductor.i"]),
+                             ("resistor.R [Ohm]", ["resistor.R"])], drawn
+    assert drawn.index(("inductor.i [A]", ["inductor.i"])) < \
+        drawn.index(("capacitor.v [V]", ["capacitor.v"])), drawn
     print("--outputs: %s" % drawn)
 
 

@@ -78,16 +78,17 @@ TEST(SweepGrid, FirstAxisSlowest) {
 
 namespace {
 
-/// A stand-in simulation: one row per second up to 2 s of R * t, status
-/// 3 at R = 3 (rows kept up to t = 1), refused options at R = 4.
+/// A stand-in simulation: one row per second up to 2 s of x = R * t and
+/// the parameter R, status 3 at R = 3 (rows kept up to t = 1), refused
+/// options at R = 4.
 Expected<SimResult> fakeSimulate(const SimOptions &o) {
   double R = o.params.at("R");
   if (R == 4)
     return Error{"parameter 'R' is structural"};
   SimResult r;
-  r.columns = {"time", "x"};
+  r.columns = {"time", "x", "R"}; // results carry the parameters
   for (double t : {0.0, 1.0, 2.0}) {
-    r.rows.push_back({t, R * t});
+    r.rows.push_back({t, R * t, R});
     if (R == 3 && t == 1) {
       r.status = 3;
       r.failure = "at t = 1: step size too small\nhint: none";
@@ -95,7 +96,8 @@ Expected<SimResult> fakeSimulate(const SimOptions &o) {
     }
   }
   if (o.log)
-    *o.log << "initialization: R = " << R << "\n";
+    *o.log << "initialization: R = " << R
+           << "\ninitialization: the start values are consistent\n";
   return r;
 }
 
@@ -139,10 +141,17 @@ TEST(SweepRun, FailingMembersKeepTheOthers) {
   EXPECT_NE(p.find("member 4 (R=4) failed: parameter 'R' is structural"),
             std::string::npos);
   EXPECT_NE(p.find(" of 5 done; member 1 (R=1) ok ("), std::string::npos);
-  // Each member's log, whole and named.
-  EXPECT_NE(log.str().find("member 5: initialization: R = 5\n"),
+  // Each member's log, whole and named; a line another member logged
+  // already is not repeated; the rest of a failure's message (its hint).
+  std::string l = log.str();
+  EXPECT_NE(l.find("member 5: initialization: R = 5\n"), std::string::npos)
+      << l;
+  size_t consistent = l.find("the start values are consistent\n");
+  ASSERT_NE(consistent, std::string::npos) << l;
+  EXPECT_EQ(l.find("the start values are consistent", consistent + 1),
             std::string::npos)
-      << log.str();
+      << l;
+  EXPECT_NE(l.find("member 3: hint: none\n"), std::string::npos) << l;
 }
 
 TEST(SweepRun, EscapingExceptionIsTheMembersError) {
@@ -177,6 +186,7 @@ std::vector<SweepMember> writeFakeSweep(const std::vector<double> &Rs,
 TEST(SweepFile, CsvLongTable) {
   ScratchDir dir;
   auto out = writeFakeSweep({1, 3, 4}, dir, "sweep.csv", ResultFormat::Csv);
+  // R once, as swept.
   EXPECT_EQ(readFile(dir.path / "sweep.csv"), "member,R,time,x\n"
                            "1,1,0,0\n1,1,1,1\n1,1,2,2\n"
                            "2,3,0,0\n2,3,1,3\n");

@@ -73,8 +73,11 @@ def check_csv_two_axes(ldaec, model, d):
     with open(path) as f:
         rows = list(csv.reader(f))
     header = rows[0]
-    # The swept names sorted, then the result's columns.
+    # The swept names sorted, then the result's columns, the swept
+    # parameters' own columns not twice.
     assert header[:4] == ["member", "C", "R", "time"], header
+    assert len(set(header)) == len(header), header
+    assert "V" in header, header
     v = header.index("capacitor.v")
     members = {}
     for row in rows[1:]:
