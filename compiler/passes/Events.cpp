@@ -131,6 +131,9 @@ public:
 
 private:
   void initialDiscreteValues();
+  /// The parameters `e` reads were folded into a value of the compiled
+  /// model: they fix it (ir::Parameter::structural).
+  void markStructural(ir::ExprRef e);
   bool partitionEquations();
   void collectSlots();
   void addParameters();
@@ -186,6 +189,8 @@ void EventBuilder::initialDiscreteValues() {
         Expected<double> v = ir::evaluate(value, env, &m_);
         if (!v)
           continue;
+        // Folded into the discrete start: a run cannot evaluate it again.
+        markStructural(value);
         m_.variables[k.var].start = *v;
         m_.variables[k.var].hasStart = true;
         used = true;
@@ -270,6 +275,12 @@ void EventBuilder::collectSlots() {
   }
 }
 
+void EventBuilder::markStructural(ir::ExprRef e) {
+  for (ir::ParamId p : ir::freeParameters(e))
+    if (p < m_.parameters.size())
+      m_.parameters[p].structural = true;
+}
+
 double EventBuilder::startValue(ir::ExprRef e) {
   ir::EvalEnv env = pc_.startEnv();
   env.time = m_.experiment.startTime.value_or(0.0);
@@ -283,8 +294,13 @@ void EventBuilder::addParameters() {
     ir::DiscreteValue d;
     d.name = s.name;
     d.kind = s.kind;
-    if (s.kind == ir::DiscreteKind::Variable)
+    if (s.kind == ir::DiscreteKind::Variable) {
       d.start = m_.variables[s.var].start;
+      // Discrete start values are no run-time parameters' bindings
+      // (ldae_model::bind covers the unknowns'): what they read is fixed.
+      if (ir::ExprRef b = m_.variables[s.var].startBinding)
+        markStructural(b);
+    }
     else if (s.kind == ir::DiscreteKind::Relation)
       d.start = startValue(s.node);
     else if (s.kind == ir::DiscreteKind::When)

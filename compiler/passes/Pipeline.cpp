@@ -113,15 +113,9 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
                  DiagnosticEngine &diags, AnalysisResult &result) {
   result = AnalysisResult{};
   result.model = model.name;
-  const std::vector<bool> structural = model.structuralParameters();
-  for (size_t k = 0; k < model.userParameterCount(); ++k) {
-    const ir::Parameter &p = model.parameters[k];
-    if (p.isConstant)
-      continue;
-    result.parameters.push_back(p.name);
-    if (structural[k])
-      result.structuralParameters.push_back(p.name);
-  }
+  for (size_t k = 0; k < model.userParameterCount(); ++k)
+    if (!model.parameters[k].isConstant)
+      result.parameters.push_back(model.parameters[k].name);
   // The continuous system's counts (the discrete part is the events').
   const std::vector<bool> discrete = ir::discreteVariables(model);
   for (bool d : discrete)
@@ -161,6 +155,12 @@ bool runPipeline(ir::Model &model, const PipelineOptions &opts,
       out << "  " << std::setw(10) << t.seconds << " s  " << t.name << "\n";
     out << std::defaultfloat;
   }
+  // After the passes: some fold parameter values into the compiled model
+  // (a discrete start value) and mark them structural.
+  const std::vector<bool> structural = model.structuralParameters();
+  for (size_t k = 0; k < model.userParameterCount(); ++k)
+    if (!model.parameters[k].isConstant && structural[k])
+      result.structuralParameters.push_back(model.parameters[k].name);
   if (ok && results.has<ir::DaeSystem>())
     result.system = std::move(results.get<ir::DaeSystem>());
   return ok;
