@@ -76,7 +76,14 @@ def check_default(ldaec, model, d):
     assert not PARAMETERS & set(curves), curves
     assert not any(c.startswith("der(") for c in curves), curves
     assert len(set(curves)) == len(curves), curves
-    assert "capacitor.v" in curves and "inductor.i" in curves, curves
+    # The expected panels: the voltages that vary (one of each set of
+    # aliases, model order), then the one current; the potentials tied to
+    # the ground and the ground's current stay 0 and are named instead.
+    assert drawn == [("v [V]", ["source.v", "resistor.v", "inductor.p.v",
+                                "inductor.v", "capacitor.v"]),
+                     ("inductor.i [A]", ["inductor.i"])], drawn
+    assert ("the plot leaves out 4 curves that stay constant: source.n.v, "
+            "capacitor.n.v, ground.p.v, ground.p.i") in notes, notes
     print("default: %d curves of %d columns in %d panels: %s" %
           (len(curves), len(columns) - 1, len(drawn),
            "; ".join("%s: %s" % (l, ", ".join(t)) for l, t in drawn)))
