@@ -37,10 +37,12 @@ def closed_form(t, R, C=1e-3, V=2.0):
     return V * (1 - np.exp(-t / (R * C)))
 
 
-def check_mat(ldaec, model, d):
+def check_mat(ldaec, model, d, jit):
+    # Two threads over one compiled model: the interpreter's (--jit off)
+    # and the JIT's code.
     path = os.path.join(d, "sweep.mat")
     rc, _, err = run(ldaec, model, "--sweep", "R=50:200:4", "--jobs", "2",
-                     "-o", path)
+                     "-o", path, "--jit", jit)
     assert rc == 0, (rc, err)
     # One progress line per member.
     lines = [l for l in err.splitlines() if l.startswith("sweep: ")]
@@ -61,7 +63,8 @@ def check_mat(ldaec, model, d):
         assert t[0] == 0 and abs(t[-1] - 0.5) < 1e-12, t
         err = np.max(np.abs(data[:, v] - closed_form(t, R)))
         assert err < TOL, (R, err)
-    print("mat: 4 members, max |v - closed form| < %g" % TOL)
+    print("mat (--jit %s): 4 members, max |v - closed form| < %g" %
+          (jit, TOL))
 
 
 def check_csv_two_axes(ldaec, model, d):
@@ -124,7 +127,8 @@ def main():
         print("ldaec has no --sweep yet")
         return 77
     with tempfile.TemporaryDirectory(dir=os.getcwd()) as d:
-        check_mat(ldaec, model, d)
+        for jit in ("off", "on"):
+            check_mat(ldaec, model, d, jit)
         check_csv_two_axes(ldaec, model, d)
         check_failing_member(ldaec, model, d)
     return 0
