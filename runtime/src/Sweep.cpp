@@ -32,13 +32,12 @@ std::string trim(const std::string &text) {
 }
 
 /// The finite number spelled by all of `text`, or an Error quoting it.
-Expected<double> parseNumber(const std::string &text, const std::string &spec) {
+Expected<double> parseNumber(const std::string &text) {
   std::string t = trim(text);
   char *end = nullptr;
   double v = t.empty() ? 0 : std::strtod(t.c_str(), &end);
   if (t.empty() || *end != '\0' || !std::isfinite(v))
-    return Error{fmt::format("bad sweep '{}': '{}' is not a finite number",
-                             spec, t)};
+    return Error{fmt::format("'{}' is not a finite number", t)};
   return v;
 }
 
@@ -83,22 +82,18 @@ runMember(const std::function<Expected<SimResult>(const SimOptions &)> &simulate
 Expected<SweepAxis> parseSweepAxis(const std::string &spec) {
   size_t eq = spec.find('=');
   if (eq == std::string::npos)
-    return Error{fmt::format("bad sweep '{}': expected name=first:last:count "
-                             "or name=v1,v2,...",
-                             spec)};
+    return Error{"expected name=first:last:count or name=v1,v2,..."};
   SweepAxis axis;
   axis.name = trim(spec.substr(0, eq));
   if (axis.name.empty())
-    return Error{fmt::format("bad sweep '{}': no parameter name before '='",
-                             spec)};
+    return Error{"no parameter name before '='"};
   std::string values = spec.substr(eq + 1);
   if (values.find(':') != std::string::npos) {
     std::vector<std::string> parts = split(values, ':');
     if (parts.size() != 3)
-      return Error{fmt::format("bad sweep '{}': a range is first:last:count",
-                               spec)};
-    Expected<double> first = parseNumber(parts[0], spec);
-    Expected<double> last = parseNumber(parts[1], spec);
+      return Error{"a range is first:last:count"};
+    Expected<double> first = parseNumber(parts[0]);
+    Expected<double> last = parseNumber(parts[1]);
     if (!first)
       return Error{first.error()};
     if (!last)
@@ -107,9 +102,9 @@ Expected<SweepAxis> parseSweepAxis(const std::string &spec) {
     char *end = nullptr;
     long count = countText.empty() ? 0 : std::strtol(countText.c_str(), &end, 10);
     if (countText.empty() || *end != '\0' || count < 2 || count > 100000000)
-      return Error{fmt::format("bad sweep '{}': the count '{}' must be an "
-                               "integer from 2 to 100000000",
-                               spec, countText)};
+      return Error{fmt::format("the count '{}' must be an integer from 2 to "
+                               "100000000",
+                               countText)};
     for (long k = 0; k < count; ++k)
       axis.values.push_back(k + 1 == count
                                 ? *last
@@ -118,12 +113,22 @@ Expected<SweepAxis> parseSweepAxis(const std::string &spec) {
     return axis;
   }
   for (const std::string &part : split(values, ',')) {
-    Expected<double> v = parseNumber(part, spec);
+    Expected<double> v = parseNumber(part);
     if (!v)
       return Error{v.error()};
     axis.values.push_back(*v);
   }
   return axis;
+}
+
+Expected<bool> checkSweepAxes(const std::vector<SweepAxis> &axes) {
+  for (size_t i = 0; i < axes.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (axes[i].name == axes[j].name)
+        return Error{fmt::format("'{}' is swept twice (list every value in "
+                                 "one --sweep)",
+                                 axes[i].name)};
+  return true;
 }
 
 std::vector<std::map<std::string, double>>

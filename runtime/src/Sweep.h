@@ -22,8 +22,13 @@ struct SweepAxis {
 };
 
 /// `name=first:last:count` (count values evenly spaced, both ends
-/// included) or `name=v1,v2,...`; an Error saying what is wrong.
+/// included) or `name=v1,v2,...`; an Error saying what is wrong (the
+/// caller quotes `spec`).
 Expected<SweepAxis> parseSweepAxis(const std::string &spec);
+
+/// An Error when two axes sweep one name (the grid would hold only the
+/// last one's values).
+Expected<bool> checkSweepAxes(const std::vector<SweepAxis> &axes);
 
 /// The members of the full grid of `axes` (every combination), the first
 /// axis varying slowest.
