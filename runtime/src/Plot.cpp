@@ -196,6 +196,8 @@ std::vector<std::vector<int>> splitByScale(const SimResult &r,
 
 Expected<PlotPlan> planPlot(const SimResult &result,
                             const std::vector<std::string> &columns) {
+  if (result.rows.empty())
+    return Error{"nothing to plot: the run has no rows"};
   PlotPlan plan;
   std::vector<int> cols;
   if (columns.empty()) {

@@ -173,6 +173,10 @@ TEST(PlotPlan, DiscreteWhenNothingContinuous) {
   auto none = planPlot(onlyParams);
   ASSERT_FALSE(none);
   EXPECT_NE(none.error().find("nothing to plot"), std::string::npos);
+  r.rows.clear(); // a run that failed before its first row
+  auto empty = planPlot(r);
+  ASSERT_FALSE(empty);
+  EXPECT_EQ(empty.error(), "nothing to plot: the run has no rows");
 }
 
 TEST(PlotPlan, ExtensionDecidesTheFormat) {
