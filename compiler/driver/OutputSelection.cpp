@@ -45,7 +45,8 @@ bool isGlob(const std::string &pattern) {
 
 /// The names a run can report, in model order: each variable (the event
 /// inputs the compiler makes left out) with der(x) right after x where the
-/// equations differentiate x, then the parameters.
+/// equations differentiate x, then the parameters and constants (the
+/// compiled model keeps both in its parameter vector).
 std::vector<std::string> reportableNames(const ir::Model &model) {
   std::unordered_set<ir::VarId> differentiated;
   for (const ir::Equation &eq : model.equations)
@@ -62,7 +63,7 @@ std::vector<std::string> reportableNames(const ir::Model &model) {
       names.push_back(model.variableName(ir::VarKey{v, 1}));
   }
   for (const ir::Parameter &p : model.parameters)
-    if (!p.discrete && !p.isConstant)
+    if (!p.discrete)
       names.push_back(p.name);
   return names;
 }
