@@ -9,6 +9,7 @@ model computes from others needs a model compiled for that value: it is
 compiled with overrides (``--override`` of the command), kept per set of
 overrides, and the result says ``recompiled``.
 """
+import collections
 import fnmatch
 import json
 import os
@@ -23,6 +24,11 @@ from .result import Result
 # (runtime/src/Rebind.cpp): the fallback when the compiled model's tables
 # do not tell beforehand.
 _NEEDS_RECOMPILE = "without recompiling"
+
+# Models compiled for structural values kept per Model, the least recently
+# used dropped first (a sweep over an array size would otherwise keep one
+# compiled model per member).
+MAX_RECOMPILED = 16
 
 
 def format_value(value):
@@ -104,7 +110,7 @@ class Model:
         self.cache_dir = _cache_dir(cache)
         self.compile_count = 0
         self._lock = threading.Lock()
-        self._compiled = {}
+        self._compiled = collections.OrderedDict()
         self._report = None
         self._base = self._model_for(())[0]
 
@@ -116,6 +122,7 @@ class Model:
         key = tuple(extra)
         with self._lock:
             if key in self._compiled:
+                self._compiled.move_to_end(key)
                 return self._compiled[key], False
             compiled = _ldaec.Model(self.path, self.model_name, self.method,
                                     self.outputs, self.jit,
@@ -123,6 +130,10 @@ class Model:
                                     self.cache_dir)
             self.compile_count += 1
             self._compiled[key] = compiled
+            if len(self._compiled) > MAX_RECOMPILED + 1:
+                # The base model (key ()) stays: it answers `parameters`.
+                oldest = next(k for k in self._compiled if k)
+                del self._compiled[oldest]
         if compiled.warnings:
             warnings.warn(compiled.warnings.rstrip("\n"), ModelWarning,
                           stacklevel=3)
@@ -255,7 +266,9 @@ class Model:
             compiled = self._model_for(extra)[0]
             raw = compiled.simulate(
                 outputs=expand_outputs(outputs, compiled.output_names), **run)
-        result = Result(raw, recompiled=compiled is not self._base)
+        states = None if (self.outputs or outputs) else compiled.unknowns
+        result = Result(raw, recompiled=compiled is not self._base,
+                        states=states)
         if check and result.status != 0:
             raise SimulationError(result.diagnostics, result=result)
         return result

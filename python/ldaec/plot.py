@@ -18,8 +18,8 @@ def _groups(result, names):
 
 
 def _default_names(result, max_curves):
-    names = [n for n in result.names
-             if result.kinds.get(n) not in ("parameter",)]
+    names = result.plot_default or [
+        n for n in result.names if result.kinds.get(n) != "parameter"]
     if len(names) > max_curves:
         warnings.warn(
             f"plotting the first {max_curves} of {len(names)} variables; "

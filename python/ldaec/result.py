@@ -17,7 +17,7 @@ class Result:
     for its structural parameters or start values (docs/python.md).
     """
 
-    def __init__(self, raw, recompiled=False):
+    def __init__(self, raw, recompiled=False, states=None):
         self._raw = raw
         self.data = raw.data
         cols = raw.columns
@@ -26,6 +26,9 @@ class Result:
         self.units = {c[0]: c[2] for c in cols}
         self.descriptions = {c[0]: c[3] for c in cols}
         self._index = {name: j for j, name in enumerate(self.columns)}
+        # What plot() draws by default: the states when no outputs were
+        # asked for (every other variable follows from them), else all.
+        self.plot_default = [n for n in states or [] if n in self._index]
         params = raw.params
         self.params = {p[0]: p[1] for p in params}
         self.param_units = {p[0]: p[2] for p in params}

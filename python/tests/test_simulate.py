@@ -143,6 +143,11 @@ def test_plot_one_panel_per_unit(rc, tmp_path):
     units = {r.units[n] for n in ["capacitor.v", "capacitor.i", "resistor.v"]}
     assert len(fig.axes) == len(units)
     assert fig._suptitle.get_text() == "RCCircuit"
+    # By default the states (all else follows from them): one curve.
+    fig = r.plot(path=tmp_path / "rc.svg")
+    [ax] = fig.axes
+    assert [line.get_label() for line in ax.get_lines()] == ["capacitor.v"]
+    assert ax.get_ylabel() == "[V]"
 
 
 def test_gil_released_while_integrating():
