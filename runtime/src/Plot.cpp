@@ -122,15 +122,25 @@ bool isConstant(const SimResult &r, size_t c) {
   return true;
 }
 
-/// The curves drawn when none are named: the continuous variables, else
-/// the discrete ones; those that stay constant go to `constant` unless
-/// every one does.
+/// The curves drawn when none are named: the continuous variables (those
+/// in `states` when any is), else the discrete ones; those that stay
+/// constant go to `constant` unless every one does.
 std::vector<int> defaultCurves(const SimResult &r,
+                               const std::vector<std::string> &states,
                                std::vector<std::string> &constant) {
+  auto isState = [&](size_t c) {
+    return std::find(states.begin(), states.end(), r.columns[c]) !=
+           states.end();
+  };
+  bool anyState = false;
+  for (size_t c = 1; c < r.columns.size(); ++c)
+    anyState = anyState ||
+               (kindOf(r, c) == ColumnKind::Continuous && isState(c));
   for (ColumnKind kind : {ColumnKind::Continuous, ColumnKind::Discrete}) {
     std::vector<int> varying, fixed;
     for (size_t c = 1; c < r.columns.size(); ++c)
-      if (kindOf(r, c) == kind && !isAlias(r, c))
+      if (kindOf(r, c) == kind && !isAlias(r, c) &&
+          (!anyState || kind != ColumnKind::Continuous || isState(c)))
         (isConstant(r, c) ? fixed : varying).push_back(int(c));
     if (varying.empty())
       varying.swap(fixed);
@@ -194,14 +204,23 @@ std::vector<std::vector<int>> splitByScale(const SimResult &r,
 
 } // namespace
 
+std::vector<std::string> unknownNames(const ldae_model &model) {
+  std::vector<std::string> names;
+  for (int i = 0; i < model.n && model.var_names; ++i)
+    if (model.var_names[i])
+      names.push_back(model.var_names[i]);
+  return names;
+}
+
 Expected<PlotPlan> planPlot(const SimResult &result,
-                            const std::vector<std::string> &columns) {
+                            const std::vector<std::string> &columns,
+                            const std::vector<std::string> &states) {
   if (result.rows.empty())
     return Error{"nothing to plot: the run has no rows"};
   PlotPlan plan;
   std::vector<int> cols;
   if (columns.empty()) {
-    cols = defaultCurves(result, plan.constant);
+    cols = defaultCurves(result, states, plan.constant);
     if (cols.empty())
       return Error{"nothing to plot: the result has no continuous or "
                    "discrete variable (name the columns to plot)"};
@@ -348,8 +367,9 @@ std::string plotScript(const SimResult &result, const PlotPlan &plan,
 
 Expected<bool> plot(const SimResult &result, const std::string &path,
                     const std::vector<std::string> &columns,
+                    const std::vector<std::string> &states,
                     std::ostream &notes) {
-  Expected<PlotPlan> plan = planPlot(result, columns);
+  Expected<PlotPlan> plan = planPlot(result, columns, states);
   if (!plan)
     return Error{plan.error()};
   Expected<std::string> terminal = terminalFor(path, plan->panels.size());

@@ -38,12 +38,15 @@ struct PlotPlan {
   std::vector<std::string> constant;
 };
 
-/// The panels for `columns` of `result` (names; empty: the continuous
-/// variables, neither parameters nor derivatives nor aliases of another
-/// column nor, unless all are, constant ones; or the discrete ones when
-/// there are none). An Error for an unknown name or nothing to draw.
+/// The panels for `columns` of `result` (names). None named: the
+/// continuous variables that are `states` (the model's unknowns,
+/// unknownNames; all continuous variables when none of them is a column),
+/// neither parameters nor derivatives nor aliases of another column nor,
+/// unless all are, constant ones; or the discrete ones when there are no
+/// continuous ones. An Error for an unknown name or nothing to draw.
 Expected<PlotPlan> planPlot(const SimResult &result,
-                            const std::vector<std::string> &columns = {});
+                            const std::vector<std::string> &columns = {},
+                            const std::vector<std::string> &states = {});
 
 /// Plots `columns` of `result` (as planPlot) against time into `path`
 /// (.png, .svg or .pdf); writes `path`.dat and `path`.gp beside it. What
@@ -52,6 +55,11 @@ Expected<PlotPlan> planPlot(const SimResult &result,
 /// is unknown.
 Expected<bool> plot(const SimResult &result, const std::string &path,
                     const std::vector<std::string> &columns = {},
+                    const std::vector<std::string> &states = {},
                     std::ostream &notes = std::cerr);
+
+/// The names of `model`'s unknowns (the integrator's: the states and the
+/// iteration variables of torn blocks), what plots draw by default.
+std::vector<std::string> unknownNames(const ldae_model &model);
 
 } // namespace ldae::runtime

@@ -117,6 +117,29 @@ TEST(PlotPlan, ConstantCurvesLeftOutByDefault) {
   EXPECT_EQ(names(flat, all->panels[0]), (V{"x"}));
 }
 
+TEST(PlotPlan, StatesByDefault) {
+  // The model's unknowns (its states) among the continuous variables:
+  // only those are drawn; names that are no column are ignored.
+  SimResult r = makeResult({{"source.v", Cont, "V", 10},
+                            {"C.v", Cont, "V", 12},
+                            {"L.i", Cont, "A", 0.4},
+                            {"mode", ColumnKind::Discrete, "", 1}});
+  auto plan = planPlot(r, {}, {"C.v", "L.i", "solved.out"});
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), 2u);
+  EXPECT_EQ(names(r, plan->panels[0]), (V{"C.v"}));
+  EXPECT_EQ(plan->panels[0].label, "C.v [V]");
+  EXPECT_EQ(names(r, plan->panels[1]), (V{"L.i"}));
+  // No unknown among the columns: every continuous variable.
+  auto none = planPlot(r, {}, {"elsewhere"});
+  ASSERT_TRUE(none);
+  EXPECT_EQ(names(r, none->panels[0]), (V{"source.v", "C.v"}));
+  // Named columns win.
+  auto named = planPlot(r, {"source.v"}, {"C.v"});
+  ASSERT_TRUE(named);
+  EXPECT_EQ(names(r, named->panels[0]), (V{"source.v"}));
+}
+
 TEST(PlotPlan, CapsCurvesAndPanels) {
   // 60 curves of one unit and scale: 8 a panel, 6 panels, 12 left out.
   std::vector<Column> cols;

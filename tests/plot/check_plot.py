@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """ldaec --plot end to end on an RLC circuit (tests/plot/rlc_circuit.lsd).
 
-The circuit has 26 unknowns and 7 parameters. The gnuplot script ldaec
-writes beside the picture must draw panels by unit (volts and amperes
-apart), labelled with units, at most 8 curves a panel and 6 panels, no
-parameter and no derivative, with the model's name as title; the PNG, SVG
-and PDF must exist and start with their formats' magic bytes. With
---outputs, exactly the named curves are drawn.
+The circuit has 26 variables and 7 parameters. The gnuplot script ldaec
+writes beside the picture must draw, by default, the two states in a
+panel each (volts and amperes apart), labelled with units, with the
+model's name as title; the PNG, SVG and PDF must exist and start with
+their formats' magic bytes. With --outputs, exactly the named curves are
+drawn, at most 8 a panel and 6 panels, the rest named on stderr.
 
 usage: check_plot.py LDAEC MODEL
 """
@@ -18,8 +18,6 @@ import sys
 import tempfile
 
 MAGIC = {".png": b"\x89PNG\r\n\x1a\n", ".pdf": b"%PDF-", ".svg": b"<?xml"}
-PARAMETERS = {"source.V", "source.f", "source.phase", "source.offset",
-              "resistor.R", "inductor.L", "capacitor.C"}
 
 
 def plot(ldaec, model, path, *args):
@@ -53,7 +51,7 @@ def header(csv_path):
 def check_default(ldaec, model, d):
     for ext in (".png", ".svg", ".pdf"):
         path = os.path.join(d, "rlc" + ext)
-        notes = plot(ldaec, model, path)
+        plot(ldaec, model, path)
         with open(path, "rb") as f:
             start = f.read(16)
         assert start.startswith(MAGIC[ext]), (ext, start)
@@ -61,34 +59,53 @@ def check_default(ldaec, model, d):
     assert len(columns) == 1 + 26 + 7, (len(columns), columns)
     with open(os.path.join(d, "rlc.png.gp")) as f:
         script = f.read()
-    assert "set multiplot layout" in script and "title 'RLCCircuit'" in script
+    assert "set multiplot layout 2,1 title 'RLCCircuit'" in script, script
     assert "set xlabel 'time [s]'" in script
+    # By default the states, one panel a unit (model order), labelled
+    # with it.
     drawn = panels(script)
-    assert 1 <= len(drawn) <= 6, drawn
+    assert drawn == [("inductor.i [A]", ["inductor.i"]),
+                     ("capacitor.v [V]", ["capacitor.v"])], drawn
+    print("default: %d of %d columns: %s" % (
+        2, len(columns) - 1, drawn))
+
+
+def check_caps(ldaec, model, d):
+    # Every column named ('*': 35 with the derivatives and parameters):
+    # panels by unit and scale, at most 8 curves each and 6 in all; the
+    # rest named on stderr with how to see them.
+    path = os.path.join(d, "all.svg")
+    notes = plot(ldaec, model, path, "--outputs", "*")
+    named = header(path + ".csv")[1:]
+    assert len(named) == 35, named
+    with open(path + ".gp") as f:
+        drawn = panels(f.read())
+    assert len(drawn) == 6, drawn
     curves = [c for _, titles in drawn for c in titles]
+    assert len(set(curves)) == len(curves), curves
     for label, titles in drawn:
         assert 1 <= len(titles) <= 8, (label, titles)
-        unit = re.search(r"\[(.*)\]$", label).group(1)
-        assert unit in ("V", "A"), label
-        suffix = {"V": "v", "A": "i"}[unit]
-        for t in titles:
-            assert t.split(".")[-1] == suffix, (label, t)
-    assert not PARAMETERS & set(curves), curves
-    assert not any(c.startswith("der(") for c in curves), curves
-    assert len(set(curves)) == len(curves), curves
-    # The expected panels: the voltages that vary (one of each set of
-    # aliases, model order), then the one current; the potentials tied to
-    # the ground and the ground's current stay 0 and are named instead.
-    assert drawn == [("v [V]", ["source.v", "resistor.v", "inductor.p.v",
-                                "inductor.v", "capacitor.v"]),
-                     ("inductor.i [A]", ["inductor.i"])], drawn
-    assert ("the plot leaves out 4 curves that stay constant: source.n.v, "
-            "capacitor.n.v, ground.p.v, ground.p.i") in notes, notes
-    print("default: %d curves of %d columns in %d panels: %s" %
-          (len(curves), len(columns) - 1, len(drawn),
-           "; ".join("%s: %s" % (l, ", ".join(t)) for l, t in drawn)))
-    if notes:
-        print("notes:", notes.strip())
+    for label, titles in drawn:
+        # "name [unit]" of one curve, "v [V]" when all names end in .v,
+        # else "[unit]".
+        quantity = re.match(r"(.*?)(?: ?\[[^]]*\])?$", label).group(1)
+        if len(titles) == 1:
+            assert quantity == titles[0], (label, titles)
+        elif quantity:
+            assert all(t.split(".")[-1] == quantity for t in titles), \
+                (label, titles)
+        else:
+            assert len({t.split(".")[-1] for t in titles}) > 1, \
+                (label, titles)
+    m = re.search(r"note: the plot leaves out (\d+) curves \(8 at most per "
+                  r"panel, 6 panels\): (.*); name the curves to plot "
+                  r"\(--outputs\) to see them", notes)
+    assert m, notes
+    assert int(m.group(1)) + len(curves) == 35, (m.group(1), len(curves))
+    left = [n for n in named if n not in curves]
+    assert m.group(2).startswith(", ".join(left[:10])), (m.group(2), left)
+    print("--outputs '*': %d curves in %d panels, %s left out" %
+          (len(curves), len(drawn), m.group(1)))
 
 
 def check_outputs(ldaec, model, d):
@@ -96,13 +113,11 @@ def check_outputs(ldaec, model, d):
     plot(ldaec, model, path, "--outputs", "capacitor.v,inductor.i,resistor.R")
     with open(path + ".gp") as f:
         drawn = panels(f.read())
-    # One panel a unit, in model order; the parameter too, since it was
-    # asked for.
-    assert sorted(drawn) == [("capacitor.v [V]", ["capacitor.v"]),
-                             ("inductor.i [A]", ["inductor.i"]),
-                             ("resistor.R [Ohm]", ["resistor.R"])], drawn
-    assert drawn.index(("inductor.i [A]", ["inductor.i"])) < \
-        drawn.index(("capacitor.v [V]", ["capacitor.v"])), drawn
+    # Exactly the named curves, any kind (the parameter too), one panel a
+    # unit in model order.
+    assert drawn == [("inductor.i [A]", ["inductor.i"]),
+                     ("capacitor.v [V]", ["capacitor.v"]),
+                     ("resistor.R [Ohm]", ["resistor.R"])], drawn
     print("--outputs: %s" % drawn)
 
 
@@ -114,6 +129,7 @@ def main():
     with tempfile.TemporaryDirectory(dir=os.getcwd()) as d:
         check_default(ldaec, model, d)
         check_outputs(ldaec, model, d)
+        check_caps(ldaec, model, d)
     return 0
 
 
