@@ -8,9 +8,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
@@ -32,11 +32,15 @@ std::string trim(const std::string &text) {
 }
 
 /// The finite number spelled by all of `text`, or an Error quoting it.
+/// from_chars reads `.` as the decimal point whatever the locale.
 Expected<double> parseNumber(const std::string &text) {
   std::string t = trim(text);
-  char *end = nullptr;
-  double v = t.empty() ? 0 : std::strtod(t.c_str(), &end);
-  if (t.empty() || *end != '\0' || !std::isfinite(v))
+  const char *first = t.data(), *last = t.data() + t.size();
+  if (first != last && *first == '+')
+    ++first;
+  double v = 0;
+  auto [end, ec] = std::from_chars(first, last, v);
+  if (t.empty() || ec != std::errc() || end != last || !std::isfinite(v))
     return Error{fmt::format("'{}' is not a finite number", t)};
   return v;
 }
@@ -99,9 +103,11 @@ Expected<SweepAxis> parseSweepAxis(const std::string &spec) {
     if (!last)
       return Error{last.error()};
     std::string countText = trim(parts[2]);
-    char *end = nullptr;
-    long count = countText.empty() ? 0 : std::strtol(countText.c_str(), &end, 10);
-    if (countText.empty() || *end != '\0' || count < 2 || count > 100000000)
+    long count = 0;
+    auto [end, ec] = std::from_chars(
+        countText.data(), countText.data() + countText.size(), count);
+    if (ec != std::errc() || end != countText.data() + countText.size() ||
+        count < 2 || count > 100000000)
       return Error{fmt::format("the count '{}' must be an integer from 2 to "
                                "100000000",
                                countText)};

@@ -36,6 +36,9 @@ TEST(SweepAxis, List) {
   auto one = parseSweepAxis("k=-0.5");
   ASSERT_TRUE(one);
   EXPECT_EQ(one->values, (std::vector<double>{-0.5}));
+  auto signs = parseSweepAxis("k=+1e3, .25");
+  ASSERT_TRUE(signs) << signs.error();
+  EXPECT_EQ(signs->values, (std::vector<double>{1000, 0.25}));
 }
 
 TEST(SweepAxis, Refusals) {
@@ -49,6 +52,9 @@ TEST(SweepAxis, Refusals) {
       {"R=1:x:3", "'x' is not a finite number"},
       {"R=1:2:1", "the count '1' must be an integer from 2"},
       {"R=1:2:2.5", "the count '2.5'"},
+      {"R=1:2:", "the count ''"},
+      {"R=1,2x", "'2x' is not a finite number"},
+      {"R=1e999", "'1e999' is not a finite number"},
       {"R=1,,2", "'' is not a finite number"},
       {"R=1,inf", "'inf' is not a finite number"},
       {"R=", "'' is not a finite number"},
