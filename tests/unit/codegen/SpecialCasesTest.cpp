@@ -291,8 +291,9 @@ TEST(EmbeddingC, MainRunsRobertsonWithTheRuntime) {
   std::istringstream in(csv);
   std::string header, row, last;
   std::getline(in, header);
-  // The columns of --simulate: the derivative output is not one of them.
-  EXPECT_EQ(header, "time,y1,y2,y3");
+  // The columns of --simulate: the derivative output is not one of them;
+  // the parameters follow as constant columns.
+  EXPECT_EQ(header, "time,y1,y2,y3,k1,k2,k3");
   int rows = 0;
   while (std::getline(in, row)) {
     last = row;

@@ -59,7 +59,8 @@ TEST(RcCircuit, UnknownNamesAreErrors) {
   o.outputs = {"C.w"};
   auto r = simulate(m, o);
   ASSERT_FALSE(r);
-  EXPECT_EQ(r.error(), "unknown output 'C.w'; did you mean 'C.v'?");
+  // Parameters are columns too: C is close to C.w.
+  EXPECT_EQ(r.error(), "unknown output 'C.w'; did you mean 'C.v', 'C'?");
   SimOptions p;
   p.params["Rr"] = 1;
   auto q = simulate(m, p);
@@ -109,7 +110,9 @@ TEST(RcCircuit, OutputsFunctionGivesTheColumns) {
   o.progress = false;
   auto r = simulate(m, o);
   ASSERT_TRUE(r) << r.error();
-  ASSERT_EQ(r->columns, (std::vector<std::string>{"time", "R.p", "C.q"}));
+  // The outputs, then every parameter as a constant column.
+  ASSERT_EQ(r->columns, (std::vector<std::string>{"time", "R.p", "C.q", "R",
+                                                  "C", "V0"}));
   for (const auto &row : r->rows) {
     double t = row[0], i = std::exp(-t) / 1000;
     EXPECT_NEAR(row[1], 1000 * i * i, 1e-12);
@@ -119,5 +122,5 @@ TEST(RcCircuit, OutputsFunctionGivesTheColumns) {
   o.outputs = {"C.v"};
   auto bad = simulate(m, o);
   ASSERT_FALSE(bad);
-  EXPECT_EQ(bad.error(), "unknown output 'C.v'; did you mean 'C.q'?");
+  EXPECT_EQ(bad.error(), "unknown output 'C.v'; did you mean 'C.q', 'C'?");
 }

@@ -114,10 +114,12 @@ TEST(SparseInit, LargeChainSimulatorStart) {
   EXPECT_NE(log.str().find("index-1 structure"), std::string::npos)
       << log.str();
   ASSERT_EQ(r->rows.size(), 1u);
-  ASSERT_EQ(r->rows[0].size(), size_t(m.n + 1));
+  // time, the unknowns, then the parameters as constant columns.
+  ASSERT_EQ(r->rows[0].size(), size_t(m.n + 1 + m.n_params));
   // The reported y: differential values kept, algebraic equations met to
   // IDACalcIC's tolerance (they do not involve y').
-  std::vector<double> y(r->rows[0].begin() + 1, r->rows[0].end()),
+  std::vector<double> y(r->rows[0].begin() + 1,
+                        r->rows[0].begin() + 1 + m.n),
       yp(m.n, 0.0), res(m.n);
   ASSERT_EQ(ev.residual(0, 0.0, y.data(), yp.data(), res.data()), 0);
   for (int i = 0; i < m.n; i += 2) {
