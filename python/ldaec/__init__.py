@@ -11,11 +11,11 @@ SimulationError carrying the command's diagnostics.
 """
 from .errors import (LdaecError, ModelError, ModelWarning, SimulationError,
                      UsageError)
-from .model import Model, compile
+from .model import Model, analyze, compile
 from .result import Result
 from .sweep import SweepResult, sweep
 from .sweep import compile_count as sweep_compile_count
 
-__all__ = ["compile", "Model", "Result", "sweep", "SweepResult",
+__all__ = ["compile", "analyze", "Model", "Result", "sweep", "SweepResult",
            "LdaecError", "ModelError", "UsageError", "SimulationError",
            "ModelWarning", "sweep_compile_count"]

@@ -185,14 +185,8 @@ class Model:
         """The ``ldaec --analyze --json`` report as a dict. A model the
         analysis rejects raises ModelError with the report in ``e.report``."""
         if self._report is None:
-            text, ok, diagnostics = _ldaec.analyze(
-                self.path, self.model_name, self.method, self.overrides)
-            report = json.loads(text)
-            if not ok:
-                error = ModelError(diagnostics)
-                error.report = report
-                raise error
-            self._report = report
+            self._report = analyze(self.path, self.model_name, self.method,
+                                   self.overrides)
         return json.loads(json.dumps(self._report))  # the caller's copy
 
     # ---- runs -------------------------------------------------------------
@@ -288,3 +282,17 @@ def compile(path, model=None, method="dd", outputs=None, jit="auto",
     command's diagnostics."""
     return Model(path, model=model, method=method, outputs=outputs, jit=jit,
                  overrides=overrides, cache=cache)
+
+
+def analyze(path, model=None, method="dd", overrides=None):
+    """The ``ldaec --analyze --json`` report of a model that need not
+    compile (a singular one says what it can). Raises ModelError when the
+    analysis fails, with the report in ``e.report``."""
+    text, ok, diagnostics = _ldaec.analyze(os.fspath(path), model or "",
+                                           method, override_list(overrides))
+    report = json.loads(text)
+    if not ok:
+        error = ModelError(diagnostics)
+        error.report = report
+        raise error
+    return report

@@ -106,3 +106,17 @@ def test_pattern_outputs_compile_time():
     r = m.simulate()
     assert r.names and all(n.startswith("capacitor.") for n in r.names)
     assert "capacitor.v" in r.names
+
+
+def test_analyze_a_model_that_does_not_compile(tmp_path):
+    path = tmp_path / "conflict.lsd"
+    path.write_text("model Conflict\n  Real x(start = 1, fixed = true);\n"
+                    "equation\n  der(x) = -x;\n  x = 2 * x + 1;\n"
+                    "end Conflict;\n")
+    with pytest.raises(ldaec.ModelError) as info:
+        ldaec.compile(path, cache=False)
+    assert "error: the model has no solution" in str(info.value)
+    with pytest.raises(ldaec.ModelError) as info:
+        ldaec.analyze(path)
+    assert info.value.report["model"] == "Conflict"
+    assert "error: the model has no solution" in info.value.diagnostics
