@@ -174,7 +174,8 @@ def test_gil_released_while_integrating():
     assert r.status == 0
     run = end - begin
     assert run > 0.1, f"the run took {run:.3f} s: too short to tell"
-    # Holding the GIL, the counter would get at most a tick or two at the
-    # call's edges; released, it ticks all along (about once a ms).
+    # Holding the GIL, the counter could not append a single tick between
+    # the call's edges (20 ms margins); released, it ticks all along
+    # (about once a ms on an idle machine, less under load).
     inside = [t for t in ticks if begin + 0.02 < t < end - 0.02]
-    assert len(inside) > 0.2 * (run - 0.04) * 1000, (len(inside), run)
+    assert len(inside) >= 10, (len(inside), run)
