@@ -71,6 +71,19 @@ def test_structural_parameter_recompiles():
     assert not m.simulate().recompiled and m.compile_count == 2
 
 
+def test_start_of_a_computed_variable_recompiles():
+    m = ldaec.compile(model("alias_decay.lsd"), cache=False)
+    assert list(m.unknowns) == ["x"]
+    tight = dict(rtol=1e-9, atol=1e-12)
+    fast = m.simulate(start={"x": 3}, **tight)
+    assert not fast.recompiled and m.compile_count == 1
+    np.testing.assert_allclose(fast["z"], -3 * np.exp(-fast.time), rtol=1e-7)
+    slow = m.simulate(start={"y": 3}, **tight)
+    assert slow.recompiled and m.compile_count == 2
+    # y's start is a guess; x's fixed start decides.
+    np.testing.assert_allclose(slow["y"], np.exp(-slow.time), rtol=1e-7)
+
+
 def test_unknown_override_name_is_a_usage_error():
     m = ldaec.compile(model("decay_chain.lsd"), cache=False)
     with pytest.raises(ldaec.UsageError) as info:
