@@ -192,3 +192,17 @@ def test_gil_released_while_integrating():
     # (about once a ms on an idle machine, less under load).
     inside = [t for t in ticks if begin + 0.02 < t < end - 0.02]
     assert len(inside) >= 10, (len(inside), run)
+
+
+def test_threads_share_one_compiled_model(rc):
+    from concurrent.futures import ThreadPoolExecutor
+    values = [20.0, 50.0, 100.0, 200.0]
+    with ThreadPoolExecutor(4) as pool:
+        results = list(pool.map(
+            lambda R: rc.simulate(params={"R": R}, rtol=1e-8, atol=1e-10),
+            values))
+    assert rc.compile_count == 1
+    for R, r in zip(values, results):
+        assert r.params["R"] == R
+        expect = closed_form(r.time, R=R)
+        assert np.max(np.abs(r["capacitor.v"] - expect)) < 1e-6
