@@ -246,16 +246,22 @@ Expected<PlotPlan> planPlot(const SimResult &result,
       g->second.push_back(c);
   }
   for (const auto &[unit, members] : groups)
-    for (const std::vector<int> &scaled : splitByScale(result, members))
-      for (size_t at = 0; at < scaled.size(); at += kPlotCurvesPerPanel) {
+    for (const std::vector<int> &scaled : splitByScale(result, members)) {
+      // Over the cap, panels of even sizes: 10 curves are 5 and 5, not 8
+      // and 2.
+      size_t panels = (scaled.size() + kPlotCurvesPerPanel - 1) /
+                      kPlotCurvesPerPanel;
+      size_t size = (scaled.size() + panels - 1) / panels;
+      for (size_t at = 0; at < scaled.size(); at += size) {
         PlotPanel panel;
         panel.unit = unit;
-        panel.columns.assign(
-            scaled.begin() + at,
-            scaled.begin() + std::min(scaled.size(), at + kPlotCurvesPerPanel));
+        panel.columns.assign(scaled.begin() + at,
+                             scaled.begin() +
+                                 std::min(scaled.size(), at + size));
         panel.label = axisLabel(result, panel);
         plan.panels.push_back(std::move(panel));
       }
+    }
   if (plan.panels.size() > kPlotPanels) {
     std::vector<int> dropped;
     for (size_t p = kPlotPanels; p < plan.panels.size(); ++p)

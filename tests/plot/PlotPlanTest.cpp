@@ -97,6 +97,19 @@ TEST(PlotPlan, TwoDecadesApartSplitMoreDoNot) {
   EXPECT_EQ(names(r, plan->panels[1]), (V{"c", "zero"}));
 }
 
+TEST(PlotPlan, EvenPanelsOverTheCap) {
+  std::vector<Column> cols;
+  for (int i = 1; i <= 10; ++i)
+    cols.push_back({"C[" + std::to_string(i) + "].v", Cont, "V", 1});
+  SimResult r = makeResult(cols);
+  auto plan = planPlot(r);
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->panels.size(), 2u);
+  EXPECT_EQ(plan->panels[0].columns.size(), 5u);
+  EXPECT_EQ(names(r, plan->panels[1]).front(), "C[6].v");
+  EXPECT_EQ(plan->panels[1].label, "v [V]");
+}
+
 TEST(PlotPlan, ConstantCurvesLeftOutByDefault) {
   SimResult r = makeResult({{"ground.p.v", Cont, "V", 0},
                             {"C.v", Cont, "V", 1},
