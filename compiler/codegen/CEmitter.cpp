@@ -501,9 +501,9 @@ std::string printBindingTables(std::ostream &os, const CodePlan &plan) {
     printArray(os, "int", s + "_" + field, values, integer);
     return s + "_" + field;
   };
-  bool anyStructural = std::find(plan.structuralParams.begin(),
-                                 plan.structuralParams.end(),
-                                 1) != plan.structuralParams.end();
+  bool anyStructural =
+      std::any_of(plan.structuralParams.begin(), plan.structuralParams.end(),
+                  [](int s) { return s != 0; });
   std::ostringstream init;
   init << "  .bind = "
        << (plan.bind < 0 ? std::string("0")

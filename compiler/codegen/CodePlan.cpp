@@ -536,6 +536,9 @@ static std::vector<ExprRef> planBindings(const ir::DaeSystem &sys,
       plan.structuralParams[p] = 1;
       work.push_back(p);
     }
+  for (unsigned p = 0; p < np && p < params.size(); ++p)
+    if (params[p].isConstant)
+      plan.structuralParams[p] = 2;
   while (!work.empty()) {
     unsigned p = work.back();
     work.pop_back();

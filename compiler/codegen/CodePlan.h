@@ -211,7 +211,8 @@ struct CodePlan {
   std::vector<int> boundParams, boundStarts;
   unsigned bindPasses = 0;
   /// Per parameter: 1 if its value fixed the model's structure at compile
-  /// time (directly or through a parameter bound to it).
+  /// time (directly or through a parameter bound to it), 2 for a constant
+  /// (ldae_model::param_structural).
   std::vector<int> structuralParams;
 
   EventPlan events;

@@ -64,7 +64,10 @@ void printUsage(const ldae_model &m) {
   for (int k = 0; k < m.n_params; ++k)
     std::cout << "  " << m.param_names[k] << " = "
               << formatValue(m.param_values[k])
-              << (structural(m, k) ? " (fixes the structure)" : "") << "\n";
+              << (!structural(m, k)                           ? ""
+                  : m.param_structural[k] == kConstantParameter ? " (constant)"
+                                                                : " (fixes the structure)")
+              << "\n";
 }
 
 /// A whole-string finite number, or a message (exit 2).
@@ -102,9 +105,11 @@ bool parseParam(const ldae_model &m, const char *text, Args &args) {
     return false;
   }
   if (structural(m, k)) {
+    bool constant = m.param_structural[k] == kConstantParameter;
     fail(kBadCommandLine,
-         fmt::format("--param: {}; recompile with ldaec --param {}",
-                     structuralParameterMessage(name), text));
+         fmt::format("--param: {}{}{}", structuralParameterMessage(m, k),
+                     constant ? "" : "; recompile with ldaec --param ",
+                     constant ? "" : text));
     return false;
   }
   double v;

@@ -62,7 +62,10 @@ startIndices(const ldae_model &m, const std::map<std::string, double> &starts) {
 
 } // namespace
 
-std::string structuralParameterMessage(const std::string &name) {
+std::string structuralParameterMessage(const ldae_model &m, int k) {
+  std::string name = m.param_names[k];
+  if (m.param_structural[k] == kConstantParameter)
+    return fmt::format("cannot override constant '{}'", name);
   return fmt::format("parameter '{}' fixes the model's structure (an array "
                      "size, a branch or a subscript): it cannot change "
                      "without recompiling",
@@ -84,7 +87,7 @@ Expected<BoundValues> bindValues(const ldae_model &m,
       if (k < 0)
         return unknownNameError("parameter", name, names);
       if (m.param_structural && m.param_structural[k])
-        return Error{structuralParameterMessage(name)};
+        return Error{structuralParameterMessage(m, k)};
       v.p[k] = value;
       given[k] = 1;
     }

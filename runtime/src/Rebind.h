@@ -35,7 +35,11 @@ Expected<BoundValues> bindValues(const ldae_model &m,
                                  const std::map<std::string, double> &starts,
                                  double t0);
 
-/// The message of a parameter that fixed the model's structure.
-std::string structuralParameterMessage(const std::string &name);
+/// ldae_model::param_structural of a constant.
+inline constexpr int kConstantParameter = 2;
+
+/// Why parameter k (param_structural[k] != 0) cannot change at run time:
+/// it fixed the model's structure, or it is a constant.
+std::string structuralParameterMessage(const ldae_model &m, int k);
 
 } // namespace ldae::runtime

@@ -296,7 +296,8 @@ typedef struct ldae_model {
      bindings; a parameter given a value by the user keeps it.
      param_structural[k] = 1 when parameter k fixed the model's structure
      (an array size, a branch chosen, a subscript): a new value needs a
-     recompile. bind may be NULL (nothing bound); param_structural may be
+     recompile; 2 when it is a constant (which no run changes). bind may
+     be NULL (nothing bound); param_structural may be
      NULL (none structural). */
   ldae_outputs_fn bind;
   int n_bound_params;

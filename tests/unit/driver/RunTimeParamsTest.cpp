@@ -23,6 +23,7 @@ const char *kModel = R"(model Chain
   parameter Real k3 = k2 + 1;
   parameter Real x0 = k3/2;
   parameter Integer n = 2;
+  constant Real c = 1;
   Real x(start = x0);
   Real z(start = 1, fixed = true);
   Real v[n];
@@ -30,7 +31,7 @@ const char *kModel = R"(model Chain
 equation
   der(x) = -k*x + k2;
   der(z) = -z;
-  y = k3*x + z;
+  y = k3*x + c*z;
   for i in 1:n loop
     v[i] = i*y;
   end for;
@@ -128,6 +129,8 @@ TEST(RunTimeParamsErrors, StructuralUnknownAndSolvedOut) {
   EXPECT_EQ(error(o), "parameter 'n' fixes the model's structure (an array "
                       "size, a branch or a subscript): it cannot change "
                       "without recompiling");
+  o.params = {{"c", 3}};
+  EXPECT_EQ(error(o), "cannot override constant 'c'");
   o.params = {{"kk", 3}};
   EXPECT_EQ(error(o), "unknown parameter 'kk'; did you mean 'k', 'k2', 'k3'?");
   o.params = {};
