@@ -45,6 +45,17 @@ std::vector<std::string> names(const SimResult &r, const PlotPanel &p) {
   return out;
 }
 
+/// `count` continuous curves of one unit and scale, named
+/// `prefix` i `suffix` (i from 1).
+SimResult arrayResult(const std::string &prefix, const std::string &suffix,
+                      int count, const std::string &unit) {
+  std::vector<Column> cols;
+  for (int i = 1; i <= count; ++i)
+    cols.push_back({prefix + std::to_string(i) + suffix,
+                    ColumnKind::Continuous, unit, 1});
+  return makeResult(cols);
+}
+
 using V = std::vector<std::string>;
 constexpr ColumnKind Cont = ColumnKind::Continuous;
 
@@ -98,10 +109,7 @@ TEST(PlotPlan, TwoDecadesApartSplitMoreDoNot) {
 }
 
 TEST(PlotPlan, EvenPanelsOverTheCap) {
-  std::vector<Column> cols;
-  for (int i = 1; i <= 10; ++i)
-    cols.push_back({"C[" + std::to_string(i) + "].v", Cont, "V", 1});
-  SimResult r = makeResult(cols);
+  SimResult r = arrayResult("C[", "].v", 10, "V");
   auto plan = planPlot(r);
   ASSERT_TRUE(plan);
   ASSERT_EQ(plan->panels.size(), 2u);
@@ -155,10 +163,7 @@ TEST(PlotPlan, StatesByDefault) {
 
 TEST(PlotPlan, CapsCurvesAndPanels) {
   // 60 curves of one unit and scale: 8 a panel, 6 panels, 12 left out.
-  std::vector<Column> cols;
-  for (int i = 1; i <= 60; ++i)
-    cols.push_back({"T[" + std::to_string(i) + "]", Cont, "K", 300});
-  SimResult r = makeResult(cols);
+  SimResult r = arrayResult("T[", "]", 60, "K");
   auto plan = planPlot(r);
   ASSERT_TRUE(plan);
   ASSERT_EQ(plan->panels.size(), kPlotPanels);
