@@ -29,8 +29,8 @@ Error computedStartError(const ldae_model &m, int k, const std::string &name) {
   std::string how = "solved out by the analysis";
   if (m.output_alias && m.output_alias[k] != 0) {
     int j = std::abs(m.output_alias[k]) - 1;
-    how = fmt::format("an alias of {}'{}'", m.output_alias[k] < 0 ? "-" : "",
-                      m.output_names[j]);
+    how = fmt::format("an alias: {} = {}{}", name,
+                      m.output_alias[k] < 0 ? "-" : "", m.output_names[j]);
   } else if (m.output_origin && m.output_origin[k] && *m.output_origin[k]) {
     how = fmt::format("by the equation at {}", m.output_origin[k]);
   }
