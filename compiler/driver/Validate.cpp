@@ -310,12 +310,21 @@ bool checkCommandLine(const CLI::App &app, const Options &o,
     for (const std::string &p : splitOutputs(list))
       ok &= checkParam(p, diags);
   ok &= checkResultFile(o, diags);
+  std::vector<runtime::SweepAxis> axes;
   for (const std::string &spec : o.sweep)
     if (Expected<runtime::SweepAxis> axis = runtime::parseSweepAxis(spec);
         !axis) {
       diags.report(DiagId::ErrBadSweep, SourceLoc{}, {spec, axis.error()});
       ok = false;
+    } else {
+      axes.push_back(std::move(*axis));
     }
+  if (Expected<bool> distinct = runtime::checkSweepAxes(axes); !distinct) {
+    diags.report(DiagId::ErrBadSweep, SourceLoc{},
+                 {fmt::format("{}", fmt::join(o.sweep, " ")),
+                  distinct.error()});
+    ok = false;
+  }
   return checkInput(o.input, diags) && ok;
 }
 

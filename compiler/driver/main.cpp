@@ -235,7 +235,10 @@ static int run(int argc, char **argv) {
   if (!opts.plotFile.empty()) {
     // The results are written either way; a plot asked for and not made is
     // still an error.
-    Expected<bool> plotted = runtime::plot(*result, opts.plotFile);
+    // The columns asked for, else the states (docs/plots.md).
+    Expected<bool> plotted =
+        runtime::plot(*result, opts.plotFile, sim.outputs,
+                      runtime::unknownNames(c.compiled().model()));
     if (!plotted && rc == 0)
       rc = 1;
     if (!plotted)
