@@ -529,26 +529,10 @@ static std::vector<ExprRef> planBindings(const ir::DaeSystem &sys,
   auto binding = [&](unsigned p) {
     return p < params.size() ? params[p].binding : nullptr;
   };
-  // A parameter read by a structural one is structural too.
-  std::vector<unsigned> work;
+  // 1: fixes the structure (Model::structuralParameters); 2: a constant.
+  const std::vector<bool> structural = sys.model->structuralParameters();
   for (unsigned p = 0; p < np && p < params.size(); ++p)
-    if (params[p].structural) {
-      plan.structuralParams[p] = 1;
-      work.push_back(p);
-    }
-  for (unsigned p = 0; p < np && p < params.size(); ++p)
-    if (params[p].isConstant)
-      plan.structuralParams[p] = 2;
-  while (!work.empty()) {
-    unsigned p = work.back();
-    work.pop_back();
-    if (ExprRef b = binding(p))
-      for (ir::ParamId q : ir::freeParameters(b))
-        if (q < np && !plan.structuralParams[q]) {
-          plan.structuralParams[q] = 1;
-          work.push_back(q);
-        }
-  }
+    plan.structuralParams[p] = params[p].isConstant ? 2 : structural[p] ? 1 : 0;
   // Depth of each binding chain: a pass of the bind function settles one
   // level. Bindings form no cycle (the frontend rejects those).
   std::vector<int> depth(np, -1);
