@@ -2,12 +2,16 @@
 scipy.io.loadmat, and a reader written here from OpenModelica's documented
 result layout ("The MATv4 Result File Format" of its user's guide) on a
 MATLAB v4 parser of a few lines of numpy. Both must give the CSV of the
-same run, exactly, and the analytic values of the models.
+same run, exactly, and the analytic values of the models. The JIT, the
+interpreter and the program --emit c --main writes give the same bytes.
 
 Usage: check_mat.py LDAEC MODEL_DIR WORK_DIR
 """
 import math
 import os
+import re
+import shlex
+import shutil
 import subprocess
 import sys
 
@@ -17,6 +21,9 @@ import scipy.io
 ldaec, model_dir, work = sys.argv[1:4]
 os.makedirs(work, exist_ok=True)
 failures = []
+# The run of every check, also of the emitted program.
+RUN_OPTIONS = ["--stop", "1", "--interval", "0.25", "--rtol", "1e-10",
+               "--atol", "1e-12", "--no-progress"]
 
 
 def check(cond, what):
@@ -26,9 +33,8 @@ def check(cond, what):
 
 
 def run(model, out, *extra):
-    cmd = [ldaec, os.path.join(model_dir, model), "--simulate", "--stop", "1",
-           "--output-times", "0.25,0.5,0.75,1", "--rtol", "1e-10",
-           "--atol", "1e-12", "--no-progress", "-o", out, *extra]
+    cmd = [ldaec, os.path.join(model_dir, model), "--simulate", *RUN_OPTIONS,
+           "-o", out, *extra]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     if proc.returncode != 0:
         sys.exit("%s failed (%d): %s" % (" ".join(cmd), proc.returncode,
@@ -180,6 +186,39 @@ run("heat_chain.lsd", sel, "--outputs", "T[1?]")
 got = layout_reader(sel)
 check(list(got) == ["time", "T[10]", "T[11]", "T[12]", "N", "k"],
       "--outputs T[1?]: %s" % list(got))
+
+# The same file, byte for byte, from the interpreter, the JIT and the
+# program --emit c --main writes (when there is a C compiler).
+def same_bytes(a, b):
+    with open(a, "rb") as fa, open(b, "rb") as fb:
+        return fa.read() == fb.read()
+
+
+for jit in ("on", "off"):
+    other = os.path.join(work, "rc_jit_%s.mat" % jit)
+    run("rc_described.lsd", other, "--jit", jit)
+    check(same_bytes(rc_path, other), "--jit %s writes the same .mat" % jit)
+src = os.path.join(work, "rc_emitted.c")
+emit = subprocess.run([ldaec, os.path.join(model_dir, "rc_described.lsd"),
+                       "--emit", "c", "--main", "-o", src],
+                      capture_output=True, text=True)
+check(emit.returncode == 0, "--emit c --main: " + emit.stderr[-500:])
+header = open(src).read(4000) if emit.returncode == 0 else ""
+command = re.search(r"Compile \(docs/embedding-c\.md\):\n\s*(cc .*)\n", header)
+if command and shutil.which("cc"):
+    exe = os.path.join(work, "rc_emitted")
+    words = [src if w.endswith(".c") else w for w in shlex.split(command.group(1))]
+    words[words.index("-o") + 1] = exe
+    built = subprocess.run(words, capture_output=True, text=True)
+    check(built.returncode == 0, "the emitted program builds: " + built.stderr[-500:])
+    prog_mat = os.path.join(work, "rc_emitted.mat")
+    ran = subprocess.run([exe, *RUN_OPTIONS, "-o", prog_mat],
+                         capture_output=True, text=True)
+    check(ran.returncode == 0, "the emitted program runs: " + ran.stderr[-500:])
+    check(ran.returncode == 0 and same_bytes(rc_path, prog_mat),
+          "the emitted program writes the same .mat")
+else:
+    print("note: no C compiler; the emitted program's .mat is not checked")
 
 if failures:
     sys.exit("%d checks failed" % len(failures))
