@@ -534,7 +534,11 @@ void wongHessenberg(Hessenberg &h, PencilAnalysis &out, MatrixXd &free) {
   MatrixXd ym = MatrixXd::Zero(r + m, Y.cols() + m);
   ym.topLeftCorner(r, Y.cols()) = Y;
   ym.bottomRightCorner(m, m) = MatrixXd::Identity(m, m);
-  free = ym * nullBasis(G * ym, kBasisTol);
+  const MatrixXd n = nullBasis(G * ym, kBasisTol);
+  // ym * n without multiplying by ym's identity block: m may be thousands.
+  free.resize(r + m, n.cols());
+  free.topRows(r) = Y * n.topRows(Y.cols());
+  free.bottomRows(m) = n.bottomRows(m);
 }
 
 void denseOn(const MatrixXd &E, const MatrixXd &F, double tol,
@@ -633,7 +637,14 @@ PencilAnalysis analyzePencil(const SparsePencil &p, const PencilOptions &opts) {
   MatrixXd full(p.cols, free.cols());
   for (Index j = 0; j < free.cols(); ++j)
     full.col(j) = red.expand(free.col(j), aliveCols);
-  out.freeDirections = free.cols() ? orthColumns(full) : MatrixXd(p.cols, 0);
+  // Orthonormalized by an SVD while that is cheap; past kOrthLimit free
+  // directions (one equation for 3000 unknowns) the expanded basis is kept
+  // as it is: its columns are independent already, and an SVD of it would
+  // take minutes.
+  constexpr Index kOrthLimit = 400;
+  out.freeDirections = free.cols() == 0         ? MatrixXd(p.cols, 0)
+                       : free.cols() > kOrthLimit ? full
+                                                  : orthColumns(full);
   out.regular = out.square && out.dimV + out.dimW == p.cols &&
                 out.freeDirections.cols() == 0;
   return out;

@@ -64,8 +64,10 @@ struct PencilAnalysis {
   int dimV = 0, dimW = 0;
   int stepsV = 0;        ///< steps until V_i was stationary
   int stepsW = 0;        ///< smallest i with W_i = W_{i+1} (index if regular)
-  /// Orthonormal basis (columns, over the pencil's columns) of V ∩ T: the
-  /// directions a solution may move in freely (nonzero only when singular).
+  /// Basis (columns, over the pencil's columns) of V ∩ T: the directions a
+  /// solution may move in freely (nonzero only when singular);
+  /// orthonormal up to 400 directions, past that the reduction's own
+  /// independent columns.
   Eigen::MatrixXd freeDirections;
   /// How it was computed: "dense", "structured" or "reduced-dense", and
   /// the size of the reduced pencil.

@@ -39,6 +39,13 @@ namespace {
 
 constexpr int kPoints = 3;    // random points per step (majority vote)
 constexpr int kAttempts = 8;  // random starts per point before giving up
+/// Floating-point operations the dense Jacobians and their minimum-norm
+/// solves may cost in all (rows x cols x min(rows, cols) per Jacobian),
+/// about a second here: a model whose prolongations stay far from their
+/// points (a mutated chain that Gauss–Newton never settles) gets no formal
+/// index rather than minutes of retries. Counted, not timed, so the answer
+/// does not depend on the machine.
+constexpr double kWorkBudget = 2e9;
 
 /// The model as written: its continuous unknowns (numbered in declaration
 /// order) and the order q of its jet space.
@@ -194,6 +201,13 @@ public:
       if (s > 0)
         sys_.prolong();
       std::optional<int> codim = codimension(points);
+      if (work_ > kWorkBudget) {
+        out.reason = "gave up after " + std::to_string(s) +
+                     " prolongations: finding points on them costs more "
+                     "than the work limit";
+        out.dimensions.clear();
+        return out;
+      }
       if (!codim) {
         out.reason = "no point satisfies the equations prolonged " +
                      std::to_string(s) + " times";
@@ -214,6 +228,17 @@ private:
   Prolongation sys_;
   std::mt19937 rng_;
   double t0_;
+  double work_ = 0; // operations spent (kWorkBudget)
+
+  /// The Jacobian at (t, x), counting its solve's work; false once the
+  /// budget is spent, which ends every iteration.
+  bool jacobian(double t, const Eigen::VectorXd &x, Eigen::MatrixXd &j) {
+    if (work_ > kWorkBudget || !sys_.jacobian(t, x, j))
+      return false;
+    work_ += double(j.rows()) * double(j.cols()) *
+             double(std::min(j.rows(), j.cols()));
+    return true;
+  }
 
   /// The codimension of R_q^(s) most points agree on (the first point's on
   /// a tie); nullopt when no point of R_{q+s} can be found.
@@ -224,7 +249,7 @@ private:
       if (!place(p))
         return std::nullopt;
       Eigen::MatrixXd j;
-      if (!sys_.jacobian(p.t, p.x, j))
+      if (!jacobian(p.t, p.x, j))
         return std::nullopt;
       int c = numeric::projectedRank(j, sys_.lowColumns()).projected();
       ++votes[c];
@@ -251,7 +276,7 @@ private:
     };
     numeric::JacobianFn jac = [&](const Eigen::VectorXd &y,
                                   Eigen::MatrixXd &j) {
-      return sys_.jacobian(t, y, j);
+      return jacobian(t, y, j);
     };
     numeric::NewtonOptions opts;
     opts.tolerance = 1e-11;
@@ -275,7 +300,7 @@ private:
     numeric::JacobianFn jTail = [&](const Eigen::VectorXd &tail,
                                     Eigen::MatrixXd &j) {
       Eigen::MatrixXd all;
-      if (!sys_.jacobian(t, full(tail), all))
+      if (!jacobian(t, full(tail), all))
         return false;
       j = all.rightCols(all.cols() - m);
       return true;
@@ -306,7 +331,8 @@ private:
     std::uniform_real_distribution<double> time(0.1, 0.9);
     const int n = sys_.columns();
     double spread = 0.5;
-    for (int attempt = 0; attempt < kAttempts; ++attempt, spread *= 0.25) {
+    for (int attempt = 0; attempt < kAttempts && work_ <= kWorkBudget;
+         ++attempt, spread *= 0.25) {
       Eigen::Index kept = attempt == 0 ? std::min<Eigen::Index>(p.x.size(), n)
                                        : 0;
       if (kept == 0)

@@ -206,32 +206,42 @@ std::string coefficientText(double c, bool first) {
   return sign + buf;
 }
 
-/// The free directions as combinations of unknowns: the rows of the
-/// reduced row echelon form of the basis, each with a leading 1.
+/// The free directions named as text, at most: each costs a sweep over
+/// the whole basis, and a model with one equation for 3000 unknowns
+/// leaves 2999 (a report names eight of them anyway).
+constexpr Eigen::Index kMaxDirectionTexts = 64;
+
+/// The free directions as combinations of unknowns: the first rows of the
+/// reduced row echelon form of the basis, each with a leading 1 (past
+/// kMaxDirectionTexts rows the elimination stops; the rows named are still
+/// free directions).
 std::vector<std::string> directionTexts(const Eigen::MatrixXd &basis,
                                         const LinearModel &lm,
                                         const ir::Model &model) {
-  Eigen::MatrixXd a = basis.transpose();
-  const Eigen::Index rows = a.rows(), cols = a.cols();
+  // Column j of `d` is direction j, so the elimination works on contiguous
+  // columns (the echelon form's rows are d's columns).
+  Eigen::MatrixXd d = basis;
+  const Eigen::Index unknowns = d.rows(), dirs = d.cols();
+  const Eigen::Index named = std::min(dirs, kMaxDirectionTexts);
   Eigen::Index pr = 0;
-  for (Eigen::Index c = 0; c < cols && pr < rows; ++c) {
+  for (Eigen::Index c = 0; c < unknowns && pr < named; ++c) {
     Eigen::Index best;
-    double mag = a.col(c).tail(rows - pr).cwiseAbs().maxCoeff(&best);
+    double mag = d.row(c).tail(dirs - pr).cwiseAbs().maxCoeff(&best);
     if (mag < 1e-9)
       continue;
-    a.row(pr).swap(a.row(pr + best));
-    a.row(pr) /= a(pr, c);
-    for (Eigen::Index r = 0; r < rows; ++r)
-      if (r != pr)
-        a.row(r) -= a(r, c) * a.row(pr);
+    d.col(pr).swap(d.col(pr + best));
+    d.col(pr) /= d(c, pr);
+    for (Eigen::Index j = 0; j < dirs; ++j)
+      if (j != pr && d(c, j) != 0)
+        d.col(j) -= d(c, j) * d.col(pr);
     ++pr;
   }
   std::vector<std::string> out;
-  for (Eigen::Index r = 0; r < pr; ++r) {
+  for (Eigen::Index j = 0; j < pr; ++j) {
     std::string text;
-    for (Eigen::Index c = 0; c < cols; ++c)
-      if (std::fabs(a(r, c)) > 1e-9) {
-        text += coefficientText(a(r, c), text.empty());
+    for (Eigen::Index c = 0; c < unknowns; ++c)
+      if (std::fabs(d(c, j)) > 1e-9) {
+        text += coefficientText(d(c, j), text.empty());
         text += model.variableName(lm.columns[c]);
       }
     out.push_back(text);
@@ -311,14 +321,16 @@ std::string findConflict(PassContext &ctx, const LinearModel &lm,
   return "";
 }
 
-/// `items` quoted, at most kMaxNamed of them, then "(and N more)": a
-/// large singular model may leave hundreds of directions free.
+/// The first of `items` quoted, at most kMaxNamed of them, then "(and N
+/// more)" of `total`: a large singular model may leave hundreds of
+/// directions free.
 constexpr size_t kMaxNamed = 8;
-std::string quotedFew(const std::vector<std::string> &items) {
-  if (items.size() <= kMaxNamed)
-    return quotedList(items);
-  return quotedList({items.begin(), items.begin() + kMaxNamed}) + " (and " +
-         std::to_string(items.size() - kMaxNamed) + " more)";
+std::string quotedFew(const std::vector<std::string> &items, size_t total) {
+  size_t shown = std::min(items.size(), kMaxNamed);
+  std::string text = quotedList({items.begin(), items.begin() + shown});
+  if (total > shown)
+    text += " (and " + std::to_string(total - shown) + " more)";
+  return text;
 }
 
 class LinearPencilPass
@@ -342,6 +354,7 @@ public:
     std::vector<int> conflictRows;
     if (!a.regular) {
       rep.freeDirections = directionTexts(a.freeDirections, *lm, ctx.model);
+      rep.freeCount = a.freeDirections.cols();
       rep.conflict = findConflict(ctx, *lm, conflictRows);
     }
     ctx.report.linear = rep;
@@ -364,7 +377,8 @@ private:
                        bool error) {
     std::string why;
     if (!rep.freeDirections.empty())
-      why = "nothing determines " + quotedFew(rep.freeDirections);
+      why = "nothing determines " +
+            quotedFew(rep.freeDirections, rep.freeCount);
     if (!rep.conflict.empty())
       why += (why.empty() ? "" : "; ") + rep.conflict;
     if (why.empty())

@@ -117,8 +117,9 @@ struct LinearReport {
   int dimV = 0;
   int dimW = 0;
   /// Not well-posed: the free directions (combinations of variables) of a
-  /// singular pencil, as text.
+  /// singular pencil, as text: the first kMaxDirectionTexts of freeCount.
   std::vector<std::string> freeDirections;
+  size_t freeCount = 0;
   /// Inconsistent inputs: why.
   std::string conflict;
 };

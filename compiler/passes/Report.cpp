@@ -152,6 +152,9 @@ void printLinear(const LinearReport &l, std::ostream &out) {
       out << (i ? "                        " : "    free directions:    ")
           << joined(line) << "\n";
     }
+  if (l.freeCount > l.freeDirections.size())
+    out << "                        (and "
+        << l.freeCount - l.freeDirections.size() << " more)\n";
   if (!l.conflict.empty())
     out << "    conflict:           " << l.conflict << "\n";
 }
@@ -163,6 +166,7 @@ nlohmann::json linearJson(const LinearReport &l) {
           {"dim_V", l.dimV},
           {"dim_W", l.dimW},
           {"free_directions", l.freeDirections},
+          {"free_count", l.freeCount},
           {"conflict", l.conflict.empty() ? nlohmann::json(nullptr)
                                           : nlohmann::json(l.conflict)}};
 }
