@@ -38,7 +38,9 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_flag("--analyze", o.analyze,
                "structural analysis report: index, states, dummies, DOF");
   app.add_flag("--json", o.json, "with --analyze: the report as JSON");
-  app.add_flag("--simulate", o.simulate, "integrate the model, write CSV");
+  app.add_flag("--simulate", o.simulate,
+               "integrate the model, write the results (CSV, or .mat by -o's "
+               "extension)");
   app.add_option("--emit", o.emit, "print an intermediate form")
       ->check(CLI::IsMember({"flat", "reduced", "llvm", "c"}));
   app.add_flag("--main", o.emitMain,
@@ -117,7 +119,8 @@ void defineOptions(CLI::App &app, Options &o) {
                "$XDG_CACHE_HOME/ldaec, else ~/.cache/ldaec)");
   app.add_flag("--stats", o.stats,
                "print solver statistics on stderr: steps, evaluations, "
-               "roots, events, time events, mode switches, jumps");
+               "roots, events, time events, mode switches, jumps, the backend and "
+               "the object cache (hit or miss)");
   app.add_flag("--no-progress", o.noProgress, "never show a progress bar");
   app.add_option("--jit", o.jit,
                  "on: compile with the LLVM JIT; off: run the plan "
