@@ -107,10 +107,10 @@ Expected<SweepAxis> parseSweepAxis(const std::string &spec) {
     auto [end, ec] = std::from_chars(
         countText.data(), countText.data() + countText.size(), count);
     if (ec != std::errc() || end != countText.data() + countText.size() ||
-        count < 2 || count > 100000000)
+        count < 2 || count > long(kMaxSweepMembers))
       return Error{fmt::format("the count '{}' must be an integer from 2 to "
-                               "100000000",
-                               countText)};
+                               "{}",
+                               countText, kMaxSweepMembers)};
     for (long k = 0; k < count; ++k)
       axis.values.push_back(k + 1 == count
                                 ? *last
@@ -128,12 +128,20 @@ Expected<SweepAxis> parseSweepAxis(const std::string &spec) {
 }
 
 Expected<bool> checkSweepAxes(const std::vector<SweepAxis> &axes) {
-  for (size_t i = 0; i < axes.size(); ++i)
+  double members = axes.empty() ? 0 : 1;
+  for (size_t i = 0; i < axes.size(); ++i) {
     for (size_t j = 0; j < i; ++j)
       if (axes[i].name == axes[j].name)
         return Error{fmt::format("'{}' is swept twice (list every value in "
                                  "one --sweep)",
                                  axes[i].name)};
+    members *= double(axes[i].values.size());
+  }
+  if (members > double(kMaxSweepMembers))
+    return Error{fmt::format("the grid has {:g} members, more than the limit "
+                             "of {} (every member's result is kept until the "
+                             "file is written)",
+                             members, kMaxSweepMembers)};
   return true;
 }
 

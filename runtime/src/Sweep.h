@@ -15,6 +15,10 @@
 
 namespace ldae::runtime {
 
+/// The most members a sweep may have (the grid's size): every member's
+/// result stays in memory until the file is written.
+inline constexpr size_t kMaxSweepMembers = 100000;
+
 /// One swept parameter and its values.
 struct SweepAxis {
   std::string name;
@@ -27,7 +31,8 @@ struct SweepAxis {
 Expected<SweepAxis> parseSweepAxis(const std::string &spec);
 
 /// An Error when two axes sweep one name (the grid would hold only the
-/// last one's values).
+/// last one's values), or when the grid has more than kMaxSweepMembers
+/// members.
 Expected<bool> checkSweepAxes(const std::vector<SweepAxis> &axes);
 
 /// The members of the full grid of `axes` (every combination), the first
