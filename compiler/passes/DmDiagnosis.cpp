@@ -88,11 +88,11 @@ bool diagnoseSingular(PassContext &s, const char *system,
                           {system, rows, verb});
     else if (first && !under.empty())
       d = &s.diags.report(DiagId::ErrSingularOverUnder, at,
-                          {system, rows, verb, quotedList(cols),
-                           quotedList(under)});
+                          {system, rows, verb, quotedFew(cols),
+                           quotedFew(under)});
     else
       d = &s.diags.report(DiagId::ErrSingularOver, at,
-                          {system, rows, verb, quotedList(cols)});
+                          {system, rows, verb, quotedFew(cols)});
     addNotes(*d, piece.rows);
     if (first && !under.empty())
       for (size_t i = 0; i < dm.under.cols.size() && i < kMaxNotes; ++i)
@@ -105,7 +105,7 @@ bool diagnoseSingular(PassContext &s, const char *system,
     Diagnostic &d =
         s.diags.report(DiagId::ErrSingularUnder,
                        names.colLoc(dm.under.cols.front()),
-                       {system, quotedList(under)});
+                       {system, quotedFew(under)});
     for (size_t i = 0; i < dm.under.cols.size() && i < kMaxNotes; ++i)
       DiagnosticEngine::addNote(d, names.colLoc(dm.under.cols[i]),
                                 DiagId::NoteVariableDeclared,

@@ -321,18 +321,6 @@ std::string findConflict(PassContext &ctx, const LinearModel &lm,
   return "";
 }
 
-/// The first of `items` quoted, at most kMaxNamed of them, then "(and N
-/// more)" of `total`: a large singular model may leave hundreds of
-/// directions free.
-constexpr size_t kMaxNamed = 8;
-std::string quotedFew(const std::vector<std::string> &items, size_t total) {
-  size_t shown = std::min(items.size(), kMaxNamed);
-  std::string text = quotedList({items.begin(), items.begin() + shown});
-  if (total > shown)
-    text += " (and " + std::to_string(total - shown) + " more)";
-  return text;
-}
-
 class LinearPencilPass
     : public TypedPass<LinearPencilPass, Reads<>, Updates<>, Produces<>> {
 public:

@@ -78,4 +78,15 @@ std::string quotedList(const std::vector<std::string> &items) {
   return out;
 }
 
+std::string quotedFew(const std::vector<std::string> &items, size_t total) {
+  constexpr size_t kMaxNamed = 8;
+  if (total == 0)
+    total = items.size();
+  size_t shown = std::min(items.size(), kMaxNamed);
+  std::string text = quotedList({items.begin(), items.begin() + shown});
+  if (total > shown)
+    text += " (and " + std::to_string(total - shown) + " more)";
+  return text;
+}
+
 } // namespace ldae::passes

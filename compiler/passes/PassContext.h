@@ -78,5 +78,9 @@ bool diagnoseSingular(PassContext &ctx, const char *system,
 
 /// Lists `items` as `'a', 'b' and 'c'` (quoted).
 std::string quotedList(const std::vector<std::string> &items);
+/// The first of `items` quoted (at most 8), then "(and N more)" of
+/// `total` (items.size() when 0): a singular model of thousands of
+/// unknowns names a few, not every one, in its message.
+std::string quotedFew(const std::vector<std::string> &items, size_t total = 0);
 
 } // namespace ldae::passes
