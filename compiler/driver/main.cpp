@@ -94,8 +94,6 @@ static runtime::SimOptions simOptions(const driver::Options &opts,
   sim.interval = opts.interval;
   sim.everyStep = opts.everyStep;
   sim.times = opts.outputTimes;
-  if (!opts.stopTime && !opts.outputTimes.empty())
-    sim.stop = opts.outputTimes.back(); // explicit times end the run
   if (opts.algebraicErrorTest != "auto")
     sim.algebraicErrorTest = opts.algebraicErrorTest == "on";
   // Checked against the spellings on the command line.

@@ -209,8 +209,6 @@ public:
     o.interval = a.interval;
     o.everyStep = a.everyStep;
     o.times = a.times;
-    if (!o.stop && !o.times.empty())
-      o.stop = o.times.back(); // explicit times end the run, as the command
     o.outputs = a.outputs.empty() ? c_->request().passes.outputs : a.outputs;
     o.integrator = *integrator;
     o.algebraicErrorTest = a.algebraicErrorTest;

@@ -42,7 +42,12 @@ struct RunSettings {
 Expected<RunSettings> resolve(const ldae_model &m, const SimOptions &o) {
   RunSettings s;
   s.start = pick(o.start, m.start_time, 0.0);
-  s.stop = pick(o.stop, m.stop_time, 1.0);
+  // Explicit output times end the run at the last one unless a stop is
+  // given: they come before the model's experiment annotation.
+  std::optional<double> stop = o.stop;
+  if (!stop && !o.times.empty())
+    stop = o.times.back();
+  s.stop = pick(stop, m.stop_time, 1.0);
   s.rtol = pick(o.rtol, m.tolerance, 1e-6);
   s.atol = o.atol ? *o.atol : s.rtol;
   s.interval = pick(o.interval, m.interval, (s.stop - s.start) / 500);

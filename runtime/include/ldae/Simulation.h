@@ -51,7 +51,8 @@ struct SimOptions {
   /// Report every internal step instead of the `interval` grid.
   bool everyStep = false;
   /// Report at exactly these increasing times in (start, stop] instead of
-  /// the `interval` grid (the start row is always reported).
+  /// the `interval` grid (the start row is always reported). Without
+  /// `stop`, the last of them is the stop time.
   std::vector<double> times;
   /// Reported columns by name (outputs, or unknowns when the model has no
   /// outputs); empty: all.
