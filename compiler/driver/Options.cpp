@@ -75,7 +75,9 @@ void defineOptions(CLI::App &app, Options &o) {
       ->check(CLI::IsMember({"on", "off", "auto"}));
   app.add_option("--integrator", o.integrator,
                  "auto (default): CVODE (BDF) for an explicit ODE, IDA "
-                 "otherwise, and for --method sga|ode CVODE Adams moving "
+                 "for a DAE and for an explicit ODE whose computed "
+                 "variables stay in the error test (docs/runtime.md), and "
+                 "for --method sga|ode CVODE Adams moving "
                  "to BDF when the model turns out stiff; ida; cvode (BDF) "
                  "or cvode-bdf; cvode-adams (non-stiff); CVODE needs the "
                  "ODE form (--analyze shows it) or --method sga|ode")

@@ -159,9 +159,12 @@ protected:
 };
 
 /// The integrator the options ask for: `Auto` is CVODE (BDF) for an
-/// explicit ODE (one state set, ldae_model::explicit_ode), IDA otherwise.
-/// CVODE for a model that is not an explicit ODE is an Error naming why.
-Expected<std::unique_ptr<Integrator>> makeIntegrator(const ModelEval &ev,
-                                                     IntegratorChoice choice);
+/// explicit ODE (one state set, ldae_model::explicit_ode) whose error test
+/// weighs no computed variable (`weighsComputed`: ErrorWeights propagate
+/// and the algebraic error test is on), IDA otherwise. CVODE for a model
+/// that is not an explicit ODE is an Error naming why.
+Expected<std::unique_ptr<Integrator>>
+makeIntegrator(const ModelEval &ev, IntegratorChoice choice,
+               bool weighsComputed);
 
 } // namespace ldae::runtime

@@ -599,7 +599,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   auto firstOutput = [&](double from) {
     return span > 0 ? std::min(s_.stop, from + s_.interval) : from + 1e-6;
   };
-  auto made = makeIntegrator(ev, o_.integrator);
+  const bool weighsComputed = errorTestAlgebraic && weights.propagates();
+  auto made = makeIntegrator(ev, o_.integrator, weighsComputed);
   if (!made) {
     if (fromStart)
       return Error{made.error()};
@@ -620,7 +621,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   // IDA and CVODE need stop > start; a zero-length run still initializes.
   // The variables computed outside the integrator are error-tested with
   // the algebraic unknowns (docs/runtime.md, "The error test").
-  if (errorTestAlgebraic && weights.propagates())
+  if (weighsComputed)
     ida.weighErrors(&weights);
   auto ok = ida.init(set, t, y.data(), yp.data(), s_.rtol, weights.atol(),
                      span > 0 ? s_.stop : s_.start + 1e-6, errorTestAlgebraic);

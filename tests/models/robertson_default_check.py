@@ -10,10 +10,10 @@ Every printed value must lie within FACTOR x the example's own error bound
 the last printed digit (the .out has five significant digits).
 
 Usage: robertson_default_check.py LDAEC [OPTION...]. Options after LDAEC
-go to ldaec: the ctests give --integrator ida (the causal form, y3 = 1 -
-y1 - y2 computed outside IDA and error-tested through the weights of y1
-and y2) and --causalize off (all three unknowns to IDA, as in the
-example); tests/models/CMakeLists.txt.
+go to ldaec: the ctests give none (the causal form, y3 = 1 - y1 - y2
+computed outside the integrator and error-tested through the weights of
+y1 and y2, which makes the automatic choice IDA) and --causalize off (all
+three unknowns to IDA, as in the example); tests/models/CMakeLists.txt.
 Exits 77 (skipped) without the example's output. Standard library only.
 """
 import os
