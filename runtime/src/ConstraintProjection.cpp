@@ -15,6 +15,15 @@ constexpr int kMaxIterations = 12;
 /// A correction below this (in nominal units, relative to the point) is
 /// round-off: the point is on the manifold.
 constexpr double kConverged = 1e-14;
+/// The start may be far off (start values are guesses): damped, and more
+/// iterations.
+constexpr int kMaxStartIterations = 50;
+constexpr double kSmallestDamping = 1.0 / 1024;
+/// A constraint whose residual is below this fraction of its row's
+/// largest nominal-scaled derivative counts as met by the start.
+constexpr double kSatisfied = 1e-10;
+/// Relative pivot below which the free unknowns cannot meet the rest.
+constexpr double kRankTolerance = 1e-10;
 
 } // namespace
 
@@ -29,19 +38,75 @@ ConstraintProjection::ConstraintProjection(const ModelEval &ev)
     scale_(i) = ev.model().nominal ? ev.model().nominal[i] : 1.0;
 }
 
+std::vector<char> ConstraintProjection::fixedMask(bool holdFixed) const {
+  const ldae_model &m = ev_.model();
+  std::vector<char> held(n_, 0);
+  if (holdFixed && m.fixed)
+    for (int i = 0; i < n_; ++i)
+      held[i] = m.fixed[i] != 0;
+  return held;
+}
+
 int ConstraintProjection::linearize(double t, const double *y,
-                                    bool holdFixed) {
+                                    const std::vector<char> &held) {
   const ldae_model &m = ev_.model();
   if (int rc = m.constraint_jacobian(t, y, ev_.params(), jc_.data()))
     return rc;
   Jc_ = Eigen::Map<const Eigen::MatrixXd>(jc_.data(), m_, n_);
   A_ = Jc_ * scale_.asDiagonal();
-  if (holdFixed && m.fixed)
-    for (int i = 0; i < n_; ++i)
-      if (m.fixed[i])
-        A_.col(i).setZero();
+  for (int i = 0; i < n_; ++i)
+    if (held[i])
+      A_.col(i).setZero();
   cod_.compute(A_);
   return 0;
+}
+
+int ConstraintProjection::iterate(double t, double *y,
+                                  const std::vector<char> &held, double *dy,
+                                  int maxIterations, bool damped) {
+  const ldae_model &m = ev_.model();
+  Eigen::Map<Eigen::VectorXd> yv(y, n_);
+  Eigen::Map<const Eigen::VectorXd> c(c_.data(), m_);
+  if (int rc = m.constraints(t, y, ev_.params(), c_.data()))
+    return rc;
+  for (int it = 0; it < maxIterations; ++it) {
+    // Relinearized at every iterate: a start off P_f may be far from it
+    // (a step's drift needs one or two iterations either way).
+    if (int rc = linearize(t, y, held))
+      return rc;
+    Eigen::VectorXd z = cod_.solve(-c);
+    double size = z.lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(size))
+      return kNoConvergence;
+    Eigen::VectorXd step = scale_.cwiseProduct(z);
+    double norm = c.lpNorm<Eigen::Infinity>();
+    Eigen::VectorXd from = yv;
+    double alpha = 1;
+    for (;;) {
+      yv = from + alpha * step;
+      int rc = m.constraints(t, y, ev_.params(), c_.data());
+      if (!damped && rc)
+        return rc;
+      // Full steps near the manifold (quadratic convergence, and a
+      // residual already at round-off need not decrease); halved where
+      // the linearization overshoots.
+      if (!damped || (rc == 0 && (c.lpNorm<Eigen::Infinity>() < norm ||
+                                  alpha * size <= kConverged)))
+        break;
+      alpha /= 2;
+      if (alpha < kSmallestDamping) {
+        yv = from;
+        return rc ? rc : kNoConvergence;
+      }
+    }
+    if (dy)
+      Eigen::Map<Eigen::VectorXd>(dy, n_) += alpha * step;
+    double ref =
+        std::max(1.0, yv.cwiseQuotient(scale_).lpNorm<Eigen::Infinity>());
+    if (alpha * size <= kConverged * ref)
+      return 0;
+  }
+  return kNoConvergence;
 }
 
 int ConstraintProjection::project(double t, double *y, bool holdFixed,
@@ -51,29 +116,80 @@ int ConstraintProjection::project(double t, double *y, bool holdFixed,
   if (m_ == 0)
     return 0;
   ++count_;
-  const ldae_model &m = ev_.model();
-  Eigen::Map<Eigen::VectorXd> yv(y, n_);
-  for (int it = 0; it < kMaxIterations; ++it) {
-    if (int rc = m.constraints(t, y, ev_.params(), c_.data()))
-      return rc;
-    // Relinearized at every iterate: a start off P_f may be far from it
-    // (a step's drift needs one or two iterations either way).
-    if (int rc = linearize(t, y, holdFixed))
-      return rc;
-    Eigen::VectorXd z =
-        cod_.solve(-Eigen::Map<const Eigen::VectorXd>(c_.data(), m_));
-    Eigen::VectorXd step = scale_.cwiseProduct(z);
-    yv += step;
-    if (dy)
-      Eigen::Map<Eigen::VectorXd>(dy, n_) += step;
-    double size = z.lpNorm<Eigen::Infinity>();
-    double ref = std::max(1.0, yv.cwiseQuotient(scale_).lpNorm<Eigen::Infinity>());
-    if (!std::isfinite(size))
-      return kNoConvergence;
-    if (size <= kConverged * ref)
-      return 0;
+  return iterate(t, y, fixedMask(holdFixed), dy, kMaxIterations, false);
+}
+
+int ConstraintProjection::projectStart(double t, double *y, bool holdFixed,
+                                       bool *restricted) {
+  if (restricted)
+    *restricted = false;
+  if (m_ == 0)
+    return 0;
+  ++count_;
+  std::vector<char> held = fixedMask(holdFixed);
+  if (int rc = ev_.model().constraints(t, y, ev_.params(), c_.data()))
+    return rc;
+  if (int rc = linearize(t, y, held))
+    return rc;
+  // A constraint the start already meets (to 1e-10 of what its row moves
+  // per nominal unit) keeps every unknown it reads: the chain's positions
+  // and velocities at rest stay, only its tensions (read by the third
+  // generation alone) are solved. Without the rule the least-norm step
+  // turned the 3-link chain's first link by 40 degrees. A constraint met
+  // by chance (the chain's middle tension rows at equal start tensions)
+  // must not keep what the others need: met constraints are released,
+  // the latest first (the constraints come in generations), until the
+  // rest have full rank in the unknowns left free.
+  std::vector<char> met(m_, 0);
+  for (int i = 0; i < m_; ++i)
+    met[i] = std::fabs(c_[i]) <= kSatisfied * A_.row(i).lpNorm<Eigen::Infinity>();
+  std::vector<char> keep;
+  for (int last = m_ - 1;; --last) {
+    keep = held;
+    for (int i = 0; i < m_; ++i)
+      for (int j = 0; met[i] && j < n_; ++j)
+        if (A_(i, j) != 0)
+          keep[j] = 1;
+    if (freeRankFull(met, keep))
+      break;
+    while (last >= 0 && !met[last])
+      --last;
+    if (last < 0)
+      break;
+    met[last] = 0;
   }
-  return kNoConvergence;
+  std::vector<double> y0(y, y + n_);
+  if (keep != held) {
+    if (iterate(t, y, keep, nullptr, kMaxStartIterations, true) == 0) {
+      if (restricted)
+        *restricted = true;
+      return 0;
+    }
+    std::copy(y0.begin(), y0.end(), y);
+  }
+  return iterate(t, y, held, nullptr, kMaxStartIterations, true);
+}
+
+bool ConstraintProjection::freeRankFull(const std::vector<char> &met,
+                                        const std::vector<char> &keep) const {
+  std::vector<int> rows, cols;
+  for (int i = 0; i < m_; ++i)
+    if (!met[i])
+      rows.push_back(i);
+  for (int j = 0; j < n_; ++j)
+    if (!keep[j])
+      cols.push_back(j);
+  if (rows.empty())
+    return true;
+  if (cols.size() < rows.size())
+    return false;
+  Eigen::MatrixXd B(rows.size(), cols.size());
+  for (size_t r = 0; r < rows.size(); ++r)
+    for (size_t k = 0; k < cols.size(); ++k)
+      B(r, k) = A_(rows[r], cols[k]);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(B);
+  qr.setThreshold(kRankTolerance);
+  return qr.rank() == Eigen::Index(rows.size());
 }
 
 int ConstraintProjection::correction(double t, const double *y, double *dy) {
@@ -83,7 +199,7 @@ int ConstraintProjection::correction(double t, const double *y, double *dy) {
     return 0;
   if (int rc = ev_.model().constraints(t, y, ev_.params(), c_.data()))
     return rc;
-  if (int rc = linearize(t, y, false))
+  if (int rc = linearize(t, y, std::vector<char>(n_, 0)))
     return rc;
   d = scale_.cwiseProduct(
       cod_.solve(-Eigen::Map<const Eigen::VectorXd>(c_.data(), m_)));

@@ -3,8 +3,10 @@
 // sga|ode`): Gauss-Newton, each correction the minimum-norm solution of
 // Jc dy = -c in the nominal-scaled unknowns (dy = D z, least ||z||; a
 // complete orthogonal decomposition, so redundant constraints are fine).
-// The one projection of the start point, of every step (CVODE's
-// projection function), of interpolated output rows, and of Adams restarts.
+// The one projection of every step (CVODE's projection function), of
+// interpolated output rows, and of Adams restarts; the start (and a restart
+// after an event) by projectStart, which keeps what the start values
+// already satisfy.
 #pragma once
 
 #include "ModelEval.h"
@@ -26,6 +28,14 @@ public:
   /// total correction. Returns the ABI status of the evaluations (> 0: a
   /// domain error in constraint rc - 1), or kNoConvergence.
   int project(double t, double *y, bool holdFixed, double *dy = nullptr);
+  /// The start's projection (seed 002's rule for mechanical systems: the
+  /// positions and velocities of a consistent start stay, the multipliers
+  /// jump): the unknowns read by no constraint that y already satisfies
+  /// move, by damped Gauss-Newton on every constraint; where that has no
+  /// solution, project() over all unknowns. `restricted` (may be null)
+  /// says which rule gave the point.
+  int projectStart(double t, double *y, bool holdFixed,
+                   bool *restricted = nullptr);
   /// One Gauss-Newton correction at y, not applied: dy = -D (Jc D)^+ c.
   int correction(double t, const double *y, double *dy);
   /// The component of `err` normal to the manifold at the last projected
@@ -39,7 +49,16 @@ public:
   static constexpr int kNoConvergence = 1 << 29;
 
 private:
-  int linearize(double t, const double *y, bool holdFixed);
+  int linearize(double t, const double *y, const std::vector<char> &held);
+  /// Gauss-Newton from y over the unknowns not `held`, each step halved
+  /// until max |c| decreases (a start may be far off).
+  int iterate(double t, double *y, const std::vector<char> &held,
+              double *dy, int maxIterations, bool damped);
+  std::vector<char> fixedMask(bool holdFixed) const;
+  /// Whether the constraints not `met` have full row rank in the unknowns
+  /// not kept (A_ at the start point).
+  bool freeRankFull(const std::vector<char> &met,
+                    const std::vector<char> &keep) const;
 
   const ModelEval &ev_;
   int n_, m_;

@@ -395,37 +395,55 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
   if (set != shared_.set)
     return Error{"internal error: CVODE runs a model with one state set"};
   impl_->pendingRestart.clear();
-  return restartAt(t, y);
+  if (!impl_->projection || !impl_->projection->active())
+    return restartAt(t, y);
+  // A point handed over from outside (the initialization's own Newton
+  // iteration, an event's re-initialization) need only solve the rows: it
+  // goes onto P_f by the start's rule first, else CVODE's first
+  // projection fails from it.
+  std::vector<double> on(y, y + ev_.n());
+  if (StepStatus st = startOnConstraints(t, on.data()); !st.ok())
+    return Error{fmt::format("the point at t = {:.10g} cannot be projected "
+                             "onto the constraints",
+                             t)};
+  return restartAt(t, on.data());
 }
 
-StepStatus CvodeIntegrator::completeStart(double) {
+StepStatus CvodeIntegrator::startOnConstraints(double t, double *y) {
   Impl &I = *impl_;
-  double *y = N_VGetArrayPointer(I.y);
-  if (I.projection && I.projection->active()) {
-    // The start onto P_f: fixed start values are conditions and stay.
-    int rc = I.projection->project(I.t, y, true);
-    if (rc != 0) {
-      if (rc != ConstraintProjection::kNoConvergence && rc > 0)
-        callbackStatus(shared_, rc, y);
-      return StepStatus::failed(FailureKind::NoStart,
-                                "projection onto the constraints");
-    }
-    if (auto re = restartAt(I.t, y); !re)
-      return StepStatus::failed(FailureKind::NoStart, re.error());
+  // Fixed start values are conditions and stay (at the start only).
+  int rc = I.projection->projectStart(t, y, !stepped_);
+  if (rc != 0) {
+    if (rc != ConstraintProjection::kNoConvergence && rc > 0)
+      callbackStatus(shared_, rc, y);
+    return StepStatus::failed(FailureKind::NoStart,
+                              "projection onto the constraints");
   }
   if (project_ && adams_) {
     // The drift of an Adams run decays at this rate instead of growing
     // (see kStabilization).
     int n = ev_.n();
     std::vector<double> f(n), J(size_t(n) * n);
-    if (I.implicit->rhs(I.t, y, f.data()) == 0 &&
-        I.implicit->jacobian(I.t, y, f.data(), J.data()) == 0)
+    if (I.implicit->rhs(t, y, f.data()) == 0 &&
+        I.implicit->jacobian(t, y, f.data(), J.data()) == 0)
       I.cb.stabilize =
           kStabilization * Eigen::Map<Eigen::MatrixXd>(J.data(), n, n)
                                .cwiseAbs()
                                .rowwise()
                                .sum()
                                .maxCoeff();
+  }
+  return {};
+}
+
+StepStatus CvodeIntegrator::completeStart(double) {
+  Impl &I = *impl_;
+  double *y = N_VGetArrayPointer(I.y);
+  if (I.projection && I.projection->active()) {
+    if (StepStatus st = startOnConstraints(I.t, y); !st.ok())
+      return st;
+    if (auto re = restartAt(I.t, y); !re)
+      return StepStatus::failed(FailureKind::NoStart, re.error());
   }
   int rc = evalRhs(I.cb, I.t, y, I.yp.data());
   if (rc != 0) {
@@ -578,6 +596,7 @@ StepStatus CvodeIntegrator::step(double &tret) {
   }
   I.t = tret;
   shared_.t = tret;
+  stepped_ = true;
   if (adams_ && I.implicit) {
     StepStatus after = afterAdamsStep(tret);
     if (!after.ok())

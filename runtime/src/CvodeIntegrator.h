@@ -51,6 +51,9 @@ private:
   Expected<bool> create(double t0);
   Expected<bool> setupSolver();
   Expected<bool> restartAt(double t, const double *y);
+  /// y onto the constraints by the start's rule (fixed start values held
+  /// before the first step), and the Adams stabilization rate there.
+  StepStatus startOnConstraints(double t, double *y);
   void saveCounters();
   void updateName();
   /// The projection restart and the stiffness check after an Adams step of
@@ -67,6 +70,7 @@ private:
   bool autoChoice_;       // Adams that may move to BDF
   bool switched_ = false; // it did
   bool project_ = false;  // sga: onto the constraints after every step
+  bool stepped_ = false;  // a step was taken: fixed start values are free
   std::string name_;
   SimStats saved_; // counters of earlier restarts
 };
