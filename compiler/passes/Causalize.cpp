@@ -90,8 +90,14 @@ private:
   }
 
   void findEligible();
-  Solvability solvability(int row, ir::VarKey k, ir::ExprRef *coef);
-  Solvability solvabilityIn(ir::ExprRef r, ir::VarKey k, ir::ExprRef *coef);
+  /// Whether a coefficient may switch between branches (`if`): only an
+  /// assignment of a scalar block takes one; the explicit ODE form and
+  /// tearing want a coefficient that holds everywhere.
+  enum class Branches { Reject, Allow };
+  Solvability solvability(int row, ir::VarKey k, ir::ExprRef *coef,
+                          Branches branches = Branches::Reject);
+  Solvability solvabilityIn(ir::ExprRef r, ir::VarKey k, ir::ExprRef *coef,
+                            Branches branches = Branches::Reject);
   bool explicitOdeForm();
   void scalarBlock(int row, int col);
   void loopBlock(const std::vector<int> &rows);
@@ -152,20 +158,33 @@ void Causalizer::findEligible() {
   }
 }
 
-Solvability Causalizer::solvability(int row, ir::VarKey k, ir::ExprRef *coef) {
-  return solvabilityIn(sys_.stateSets[0].residuals[row], k, coef);
+Solvability Causalizer::solvability(int row, ir::VarKey k, ir::ExprRef *coef,
+                                     Branches branches) {
+  return solvabilityIn(sys_.stateSets[0].residuals[row], k, coef, branches);
 }
 
 Solvability Causalizer::solvabilityIn(ir::ExprRef r, ir::VarKey k,
-                                      ir::ExprRef *coef) {
+                                      ir::ExprRef *coef, Branches branches) {
   ir::ExprRef a = diff_.partial(r, k);
   if (a->isConstant(0) || ir::dependsOn(a, k))
     return Solvability::No;
-  // Piecewise coefficients hold branch-wise only; a branch switch would
-  // change which formula applies.
-  for (ir::ExprRef e : ir::topologicalOrder(std::span<const ir::ExprRef>(&a, 1)))
-    if (e->kind() == ir::ExprKind::If)
-      return Solvability::No;
+  if (branches == Branches::Reject) {
+    for (ir::ExprRef e :
+         ir::topologicalOrder(std::span<const ir::ExprRef>(&a, 1)))
+      if (e->kind() == ir::ExprKind::If)
+        return Solvability::No;
+  } else {
+    // x := -row(x = 0) / coefficient is right in every branch as long as
+    // no condition reads x: x = 0 would then pick another branch. Such a
+    // coefficient switches with a discrete value (the MSL ideal diode's
+    // `s * (if off then 1 else Ron)`) or a parameter; kept as an iteration
+    // variable instead, its 1/Ron gain put an error-test storm on IDA
+    // (docs/causalization.md).
+    for (ir::ExprRef e :
+         ir::topologicalOrder(std::span<const ir::ExprRef>(&r, 1)))
+      if (e->kind() == ir::ExprKind::If && ir::dependsOn(e->operand(0), k))
+        return Solvability::No;
+  }
   *coef = a;
   if (variablesOf(a).empty() && !ir::dependsOnTime(a))
     return Solvability::Parameter;
@@ -183,7 +202,8 @@ void Causalizer::scalarBlock(int row, int col) {
     b.residuals = 1;
     if (solvability(row, derivativeKey(col), &coef) == Solvability::No)
       explicitDerivatives_ = false;
-  } else if (solvability(row, key(col), &coef) == Solvability::No) {
+  } else if (solvability(row, key(col), &coef, Branches::Allow) ==
+             Solvability::No) {
     b.kind = CausalBlock::Kind::Nonlinear;
     b.iteration.push_back(columnName(col));
     b.residuals = 1;

@@ -28,6 +28,15 @@ bool RootWatch::evaluate(double t, const double *y, const double *yp) {
   return true;
 }
 
+bool RootWatch::exactlyZero(double t, const double *y,
+                            const double *yp) const {
+  const ldae_model &m = ev_.model();
+  std::vector<double> g(nr_);
+  if (nr_ == 0 || !m.roots || m.roots(t, y, yp, ev_.params(), g.data()) != 0)
+    return false;
+  return std::find(g.begin(), g.end(), 0.0) != g.end();
+}
+
 void RootWatch::restarted(double t, const double *y, const double *yp) {
   std::fill(excursion_.begin(), excursion_.end(), 0.0);
   std::fill(pending_.begin(), pending_.end(), false);

@@ -29,6 +29,12 @@ public:
   bool withinRoundOff(const std::vector<int> &found);
   /// After an event or a restart at (t, y, y'): the excursions start again.
   void restarted(double t, const double *y, const double *yp);
+  /// Whether a root function is exactly zero at (t, y, y'). IDA and CVODE
+  /// going on from a root they returned stop with "Root found at and very
+  /// near t" when it is still exactly zero just past t (a diode's v = vs -
+  /// vc, two equal doubles, leaving zero tangentially); a restart there
+  /// makes them set that root function aside until it leaves zero.
+  bool exactlyZero(double t, const double *y, const double *yp) const;
 
 private:
   bool evaluate(double t, const double *y, const double *yp);

@@ -504,6 +504,11 @@ private:
   }
   void carryOver(const ModelEval &ev, double t, const std::vector<double> &y,
                  const std::vector<double> &yp, Carry &carry) const;
+  /// Going on without a restart from a root return at t: restarts the
+  /// integrator there when a root function is exactly zero (see
+  /// RootWatch::exactlyZero). False, with the failure, when it cannot.
+  bool restartOnZeroRoot(const ModelEval &ev, Integrator &ida,
+                         const RootWatch &watch, double t);
   void startFrom(ModelEval &ev, const Carry &carry, std::vector<double> &y,
                  std::vector<double> &yp) const;
 
@@ -514,6 +519,18 @@ private:
   long nOut_ = 0;
   long k_ = 1; // next output time (of the grid, also with --every-step)
 };
+
+bool Run::restartOnZeroRoot(const ModelEval &ev, Integrator &ida,
+                            const RootWatch &watch, double t) {
+  if (!watch.exactlyZero(t, ida.y(), ida.yp()))
+    return true;
+  int n = ev.n();
+  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
+  auto re = ida.reinit(ida.set(), t, y.data(), yp.data());
+  if (!re)
+    res_.failure = describeSolverError(t, re.error());
+  return bool(re);
+}
 
 void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
                      const std::vector<int> &cols) {
@@ -785,9 +802,11 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     bool timeEvent = st.kind == StepStatus::StopReached && t >= nextEvent;
     bool rootEvent = st.kind == StepStatus::Root && events.handlesRoots();
     bool forced = false; // a crossing ignored as round-off was real
-    if (rootEvent && watch.withinRoundOff(ida.rootsFound()))
+    if (rootEvent && watch.withinRoundOff(ida.rootsFound())) {
       rootEvent = false;
-    else if (!rootEvent && events.handlesRoots())
+      if (!restartOnZeroRoot(ev, ida, watch, t))
+        return done(StageEnd::Done);
+    } else if (!rootEvent && events.handlesRoots())
       forced = watch.stepped(t, ida.y(), ida.yp());
     if (st.kind == StepStatus::Root && !events.handlesRoots() && o_.log) {
       std::vector<int> found = ida.rootsFound();
@@ -814,6 +833,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       if (out == EventOutcome::Unchanged) {
         res_.rows.resize(rows);
         t = tRoot; // the integrator goes on from where it stopped
+        if (!restartOnZeroRoot(ev, ida, watch, t))
+          return done(StageEnd::Done);
       } else if (out == EventOutcome::Restarted) {
         res_.rows.resize(rows);
       } else if (auto end = concluded(out))

@@ -411,13 +411,11 @@ def piece_value(pieces, t, after):
     return pieces[-1][2](t)
 
 
-def rectifier(c, model, pieces):
-    # Conducting, the IdealDiode's s is its current (vs - vc) / Ron: in
-    # the error test (the default for an index-1 system) its tolerance,
-    # carried onto c.v by the error weights, is 1/Ron = 1e5 times tighter,
-    # at round-off for 10 V, and IDA fails nearly every step (at rtol 1e-6:
-    # 262,487 steps, 260,909 error-test failures). The check is about the
-    # events.
+def rectifier(c, model, pieces, off_bound):
+    # The check is about the events, at rtol = atol = 1e-10 without the
+    # algebraic error test: with it, the restart after a turn-off finds the
+    # indicator at zero again within IDA's smallest step (IDARcheck2, exit
+    # 3).
     r = c.run(model, ["--rtol", "1e-10", "--atol", "1e-10", "--outputs",
                       "c.v,diode.i,diode.v", "--stats",
                       "--algebraic-error-test", "off"])
@@ -436,12 +434,16 @@ def rectifier(c, model, pieces):
     # within round-off. The instants are checked on the clusters of events
     # 1e-8 apart; the extra switchings separately.
     clusters = [g for i, g in enumerate(got) if i == 0 or g - got[i - 1] > 1e-8]
-    match_events(c, clusters, switches, 1e-8, "diode switching instants")
+    match_events(c, clusters, switches, off_bound, "diode switching instants")
     if len(clusters) == len(switches):
+        pairs_on = [(g, t) for g, t, p in zip(clusters, switches, pieces[1:])
+                    if p[3]]
+        on_err = worst(pairs_on)
+        c.check(on_err <= 1e-8, "turn-on times to 1e-8 (max %.2e)" % on_err)
         off_err = worst((g, t) for g, t, p in zip(clusters, switches,
                                                   pieces[1:]) if not p[3])
-        c.check(off_err <= 1e-8, "turn-off times to 1e-8 (max %.2e)" %
-                off_err)
+        c.check(off_err <= off_bound, "turn-off times to %g (max %.2e)" %
+                (off_bound, off_err))
     c.check(len(got) == len(switches), "no switching back and forth at an "
             "instant: %d events for %d switchings (at %s)" % (
                 len(got), len(switches), ", ".join(
@@ -460,11 +462,33 @@ def rectifier(c, model, pieces):
 
 
 def half_wave_rectifier(c):
-    rectifier(c, "half_wave_rectifier.lsd", rectifier_reference())
+    # Conducting, the IdealDiode's s is its current (vs - vc) / Ron,
+    # computed from the state c.v (docs/causalization.md): the turn-off,
+    # where that current leaves zero at |di/dt| ~ 100 A/s, is located only
+    # to dvc / (Ron |di/dt|) for an error dvc of c.v, 1e-6 s for its 1e-9
+    # V tolerance at rtol 1e-10 (measured 2.1e-7). The turn-on, where s is
+    # the voltage vs - vc itself, to 1e-8 (measured 2e-12).
+    pieces = rectifier_reference()
+    rectifier(c, "half_wave_rectifier.lsd", pieces, 1e-6)
+    # With default options (the annotation's Tolerance 1e-10) the error
+    # test holds s through c.v with the floor of the error weights. Before
+    # s was computed (an iteration variable in IDA's own test, its 1/Ron
+    # gain against c.v's round-off) IDA failed nearly every step: 100,057
+    # steps and 58,723 failures here, 262,487 and 260,909 at rtol 1e-6.
+    r = c.run("half_wave_rectifier.lsd", ["--outputs", "c.v", "--stats"])
+    if r:
+        _, rows, err = r
+        steps = stat(err, "steps")
+        c.check(steps is not None and steps <= 5000, "default options: "
+                "at most 5000 steps (%s), no error-test storm" % steps)
+        dv = max(abs(row["c.v"] - piece_value(pieces, row["time"], False))
+                 for row in rows)
+        c.check(dv <= 1e-6, "default options: capacitor voltage against "
+                "the closed form to 1e-6 (max %.2e)" % dv)
 
 
 def half_wave_rectifier_switch(c):
-    rectifier(c, "half_wave_rectifier_switch.lsd", switch_reference())
+    rectifier(c, "half_wave_rectifier_switch.lsd", switch_reference(), 1e-8)
 
 
 # ---- hysteresis, sampled PI, chatter ---------------------------------------

@@ -204,8 +204,14 @@ end Rectifier;)");
   // Same incidence in both branches: one structure, off frozen.
   EXPECT_TRUE(sys.events.modeDiscrete.empty());
   ASSERT_EQ(sys.roots.size(), 1u);
-  EXPECT_EQ(update(c, "off", {.y = {{"s", -0.5}}}), 1);
-  EXPECT_EQ(update(c, "off", {.y = {{"s", 0.5}}}), 0);
+  // s is computed, (sin(100 t) - vc) / (if off then 1 else Ron): its sign
+  // is that of -vc at t = 0, in either branch.
+  EXPECT_EQ(unknownIndex(sys, "vc"), 0);
+  EXPECT_EQ(sys.unknowns.size(), 1u);
+  EXPECT_EQ(update(c, "off", {.y = {{"vc", 0.5}}}), 1);
+  EXPECT_EQ(update(c, "off", {.y = {{"vc", -0.5}}}), 0);
+  EXPECT_EQ(update(c, "off", {.y = {{"vc", 0.5}}, .cur = {{"off", 1}}}), 1);
+  EXPECT_EQ(update(c, "off", {.y = {{"vc", -0.5}}, .cur = {{"off", 1}}}), 0);
 }
 
 TEST(Events, SampledController) {
