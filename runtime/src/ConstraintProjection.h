@@ -55,6 +55,8 @@ private:
   int iterate(double t, double *y, const std::vector<char> &held,
               double *dy, int maxIterations, bool damped);
   std::vector<char> fixedMask(bool holdFixed) const;
+  /// The least-norm z with A_ z = b (A_ as last linearized).
+  Eigen::VectorXd leastNorm(const Eigen::VectorXd &b) const;
   /// Whether the constraints not `met` have full row rank in the unknowns
   /// not kept (A_ at the start point).
   bool freeRankFull(const std::vector<char> &met,
@@ -66,6 +68,12 @@ private:
   Eigen::VectorXd scale_;
   Eigen::MatrixXd Jc_, A_;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_;
+  /// The normal-equations path of linearize: rows of A_ scaled to unit
+  /// max norm (As_), the Cholesky factors of As_ As_^T.
+  bool normal_ = false;
+  Eigen::VectorXd rowScale_;
+  Eigen::MatrixXd As_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
   long count_ = 0;
 };
 
