@@ -1,11 +1,12 @@
-// Runs ANTLR on one file. Syntax errors go through our DiagnosticEngine with
-// messages of our own wording (the ANTLR ones list whole token sets); the
-// default recovery continues after an error so one run reports several.
-// ANTLR exceptions and our own abort signals never leave this file.
+// Runs our lexer (Lexer.h) and the ANTLR parser on one file. Syntax errors
+// go through our DiagnosticEngine with messages of our own wording (the
+// ANTLR ones list whole token sets); the default recovery continues after an
+// error so one run reports several. ANTLR exceptions and our own abort
+// signals never leave this file.
 #include "frontend/Parser.h"
 #include "frontend/AstBuilder.h"
+#include "frontend/Lexer.h"
 
-#include "LsdLexer.h"
 #include "LsdParser.h"
 #include "antlr4-runtime.h"
 #include "support/Utf8.h"
@@ -25,44 +26,6 @@ using namespace antlr4;
 struct AbortParse {};
 
 constexpr unsigned kMaxSyntaxErrors = 20;
-
-/// The file as the lexer reads it, decoded by our own lenient decoder (the
-/// runtime's throws std::range_error on the first invalid byte). Invalid
-/// bytes become escape code points that only comments, strings and quoted
-/// names accept; anywhere else the lexer reports them with their position.
-/// A lone CR becomes LF: ANTLR counts lines at LF only, SourceManager at
-/// LF, CRLF and CR.
-class SourceStream : public ANTLRInputStream {
-public:
-  explicit SourceStream(std::string_view text) {
-    _data.reserve(text.size());
-    for (size_t i = 0; i < text.size();) {
-      utf8::Char c = utf8::decodeAt(text, i);
-      char32_t cp = c.cp;
-      if (cp == '\r' && (i + 1 == text.size() || text[i + 1] != '\n'))
-        cp = '\n';
-      else if (cp == 0xFEFF && i == 0)
-        cp = ' '; // a byte-order mark: one column, like the renderer's
-      _data.push_back(cp);
-      i += c.bytes;
-    }
-  }
-
-  /// Token text: escaped bytes come out as U+FFFD, so strings and names
-  /// are always valid UTF-8.
-  std::string getText(const misc::Interval &iv) override {
-    if (iv.a < 0 || iv.b < iv.a || static_cast<size_t>(iv.a) >= _data.size())
-      return "";
-    size_t stop = std::min(static_cast<size_t>(iv.b), _data.size() - 1);
-    std::string out;
-    for (size_t i = static_cast<size_t>(iv.a); i <= stop; ++i)
-      utf8::append(out, _data[i]);
-    return out;
-  }
-
-  char32_t at(size_t i) const { return i < _data.size() ? _data[i] : 0; }
-  const std::u32string &chars() const { return _data; }
-};
 
 struct ErrorSink {
   uint32_t file;
@@ -196,40 +159,32 @@ private:
   ErrorSink &sink_;
 };
 
-/// Lexer errors, worded from the character where the failed token starts
-/// (ANTLR's message only says "token recognition error at: 'x'").
-class LexerListener : public BaseErrorListener {
-public:
-  LexerListener(ErrorSink &sink, const SourceStream &input)
-      : sink_(sink), input_(input) {}
-  void syntaxError(Recognizer *recognizer, Token *, size_t line, size_t col,
-                   const std::string &, std::exception_ptr) override {
-    auto *lexer = dynamic_cast<Lexer *>(recognizer);
-    size_t start = lexer ? lexer->tokenStartCharIndex : 0;
-    char32_t c = input_.at(start);
-    if (utf8::isEscapedByte(c))
-      sink_.report(DiagId::ErrInvalidUtf8, line, col, 1,
-                   {fmt::format("{:02x}", utf8::escapedByte(c))});
-    else if (c == '"')
-      sink_.report(DiagId::ErrLexUnterminated, line, col, 1, {"string"});
-    else if (c == '/' && input_.at(start + 1) == '*')
-      sink_.report(DiagId::ErrLexUnterminated, line, col, 2, {"comment"});
-    else if (c == '\'')
-      sink_.report(DiagId::ErrLexBadQuotedName, line, col, 1, {});
-    else if (c < 0x20 || c == 0x7f || (c >= 0x80 && c < 0xa0))
-      sink_.report(DiagId::ErrLexControlChar, line, col, 1,
-                   {fmt::format("{:04X}", static_cast<uint32_t>(c))});
-    else {
-      std::string text;
-      utf8::append(text, c);
-      sink_.report(DiagId::ErrLexInvalidChar, line, col, 1, {text});
-    }
+/// Lexer errors in our wording (ANTLR's only said "token recognition
+/// error at: 'x'").
+void reportLexError(ErrorSink &sink, const LexError &e) {
+  switch (e.kind) {
+  case LexErrorKind::InvalidUtf8:
+    sink.report(DiagId::ErrInvalidUtf8, e.line, e.column, 1,
+                {fmt::format("{:02x}", static_cast<uint32_t>(e.value))});
+    break;
+  case LexErrorKind::UnterminatedString:
+    sink.report(DiagId::ErrLexUnterminated, e.line, e.column, 1, {"string"});
+    break;
+  case LexErrorKind::BadQuotedName:
+    sink.report(DiagId::ErrLexBadQuotedName, e.line, e.column, 1, {});
+    break;
+  case LexErrorKind::ControlChar:
+    sink.report(DiagId::ErrLexControlChar, e.line, e.column, 1,
+                {fmt::format("{:04X}", static_cast<uint32_t>(e.value))});
+    break;
+  case LexErrorKind::InvalidChar: {
+    std::string text;
+    utf8::append(text, e.value);
+    sink.report(DiagId::ErrLexInvalidChar, e.line, e.column, 1, {text});
+    break;
   }
-
-private:
-  ErrorSink &sink_;
-  const SourceStream &input_;
-};
+  }
+}
 
 /// The generated parser with a bound on rule nesting, so adversarial input
 /// (ten thousand parentheses) gets a diagnostic instead of a stack overflow.
@@ -267,15 +222,6 @@ private:
   std::unordered_map<tree::ParseTree *, unsigned> depth_;
 };
 
-/// Counts lexer errors without reporting them.
-struct CountingListener : BaseErrorListener {
-  unsigned count = 0;
-  void syntaxError(Recognizer *, Token *, size_t, size_t, const std::string &,
-                   std::exception_ptr) override {
-    ++count;
-  }
-};
-
 /// The parse of a file without syntax errors, the common case, done the
 /// fast way (ANTLR's two-stage strategy): SLL prediction, no recovery, and
 /// nothing reported. Unset when the file has an error (or nests too
@@ -286,13 +232,10 @@ std::optional<std::unique_ptr<ast::StoredDefinition>>
 quickParse(uint32_t fileId, const SourceManager &sources,
            DiagnosticEngine &diags) {
   SourceStream input(sources.text(fileId));
-  lsdparser::LsdLexer lexer(&input);
-  CountingListener lexErrors;
-  lexer.removeErrorListeners();
-  lexer.addErrorListener(&lexErrors);
+  Lexer lexer(input);
   CommonTokenStream tokens(&lexer);
   tokens.fill();
-  if (lexErrors.count != 0)
+  if (lexer.errorCount() != 0)
     return std::nullopt;
   GuardedParser parser(&tokens);
   parser.removeErrorListeners();
@@ -316,10 +259,7 @@ reportingParse(uint32_t fileId, const SourceManager &sources,
                DiagnosticEngine &diags) {
   ErrorSink sink{fileId, sources, diags};
   SourceStream input(sources.text(fileId));
-  lsdparser::LsdLexer lexer(&input);
-  LexerListener lexerListener(sink, input);
-  lexer.removeErrorListeners();
-  lexer.addErrorListener(&lexerListener);
+  Lexer lexer(input, [&sink](const LexError &e) { reportLexError(sink, e); });
   CommonTokenStream tokens(&lexer);
   GuardedParser parser(&tokens);
   parser.removeErrorListeners();

@@ -3,6 +3,7 @@
 // tokens deleted, inserted, swapped, duplicated; keywords and huge numbers
 // inserted) with a fixed seed. Every run must end normally: a model, or
 // errors reported; never a crash, an escaped exception or a hang.
+#include "Corpus.h"
 #include "frontend/Frontend.h"
 
 #include <gtest/gtest.h>
@@ -19,22 +20,7 @@ using namespace ldae;
 namespace {
 
 std::vector<std::string> readCorpus() {
-  std::vector<std::string> corpus;
-  std::string root = LDAE_SOURCE_DIR;
-  for (const char *dir : {"/examples", "/tests/lang/frontend", "/stdlib"}) {
-    std::error_code ec;
-    for (const auto &entry :
-         std::filesystem::recursive_directory_iterator(root + dir, ec)) {
-      if (entry.path().extension() != ".lsd")
-        continue;
-      std::ifstream in(entry.path());
-      std::stringstream ss;
-      ss << in.rdbuf();
-      corpus.push_back(ss.str());
-    }
-  }
-  std::sort(corpus.begin(), corpus.end()); // same order on every machine
-  return corpus;
+  return readTestCorpus({"/examples", "/tests/lang/frontend", "/stdlib"});
 }
 
 const char *const kSnippets[] = {
