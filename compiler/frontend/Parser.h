@@ -1,6 +1,7 @@
-// Parsing one lsd file into its AST: runs the ANTLR lexer and parser with
-// our error listener (diagnostics, never exceptions) and a nesting guard,
-// then builds the AST. Nothing of ANTLR leaks out of Parser.cpp/AstBuilder.cpp.
+// Parsing one lsd file into its AST: runs our lexer (Lexer.h) and the ANTLR
+// parser with our error strategy (diagnostics, never exceptions) and a
+// nesting guard, then builds the AST. Nothing of ANTLR leaks out of the
+// frontend's Lexer, Parser and AstBuilder files.
 #pragma once
 
 #include "frontend/Ast.h"
