@@ -55,11 +55,20 @@ NewtonResult gaussNewton(const ResidualFn &f, const JacobianFn &jacobian,
     if (opts.backtrack) {
       const double before = r.norm();
       Eigen::VectorXd trial, rt;
-      for (int half = 0; half < 30; ++half) {
+      bool decreased = false;
+      for (int half = 0; half < 30 && !decreased; ++half) {
         trial = x + dx;
-        if (f(trial, rt) && rt.allFinite() && rt.norm() < before)
-          break;
-        dx *= 0.5;
+        decreased = f(trial, rt) && rt.allFinite() && rt.norm() < before;
+        if (!decreased)
+          dx *= 0.5;
+      }
+      // No step along the Gauss–Newton direction decreases the residual:
+      // a least-squares minimum (or round-off). Every further iteration
+      // would repeat this one from the same point.
+      if (!decreased) {
+        res.iterations = it + 1;
+        res.status = NewtonStatus::NotConverged;
+        return res;
       }
     }
     x += dx;

@@ -41,7 +41,8 @@ struct NewtonOptions {
   double rankThreshold = 0;
   /// Halve a step (up to 30 times) until the residual's 2-norm decreases:
   /// for starts far from the solution set (the SGA's random points on
-  /// trigonometric constraints), where full steps diverge.
+  /// trigonometric constraints), where full steps diverge. When no halving
+  /// decreases it, the iteration stops there (NotConverged).
   bool backtrack = false;
 };
 

@@ -4,7 +4,8 @@
 // from the rows whose A-part vanishes on the current manifold, each new
 // constraint's tangency row appended, until no new constraint appears.
 // Ranks and "vanishes on the manifold" are decided numerically at several
-// random points projected onto the current manifold; the constraints are
+// points of the current manifold near the start values (random tangent
+// moves of a point reached from them); the constraints are
 // built symbolically by Gaussian elimination with the pivots so chosen.
 // Internal to compiler/passes; the "sga" pass reports it, "sga-system"
 // builds the vector field on P_f from it.
