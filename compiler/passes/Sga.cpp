@@ -46,8 +46,8 @@ namespace ldae::passes {
 
 namespace {
 
-constexpr int kPoints = 3;          // sample points per step
-constexpr int kDrawAttempts = 5;    // random draws per point (the fallback)
+constexpr int kPoints = 3;       // sample points per step
+constexpr int kDrawAttempts = 5; // random draws per point (the fallback)
 /// Sample points are the anchor (a point of the manifold reached from the
 /// start values) displaced by this fraction of each slot's scale and
 /// projected back: large enough that ranks there are generic, small
@@ -67,10 +67,10 @@ constexpr int kTimeSteps = 4;
 /// random draws (Andrews' squeezer spent up to 2.5 s so before it had
 /// anchors).
 constexpr int kFailureBudget = 24;
-constexpr double kRankTol = 1e-9;   // singular values below count as 0
-constexpr double kZeroTol = 1e-8;   // equilibrated |a_ic| below: vanishes
-constexpr double kHoldTol = 1e-8;   // |phi| / its scale below: holds
-constexpr double kPivotBand = 0.1;  // pivots within this of the largest
+constexpr double kRankTol = 1e-9;  // singular values below count as 0
+constexpr double kZeroTol = 1e-8;  // equilibrated |a_ic| below: vanishes
+constexpr double kHoldTol = 1e-8;  // |phi| / its scale below: holds
+constexpr double kPivotBand = 0.1; // pivots within this of the largest
 
 struct Point {
   double t = 0;
@@ -169,9 +169,8 @@ struct WorkRow {
 class Sga {
 public:
   Sga(PassContext &ctx, const MatchingResult &mr, SgaResult &out)
-      : m_(ctx.model), ex_(m_.ctx()), mr_(mr), out_(out),
-        diff_(ex_), rng_(20261124),
-        t0_(m_.experiment.startTime.value_or(0.0)) {}
+      : m_(ctx.model), ex_(m_.ctx()), mr_(mr), out_(out), diff_(ex_),
+        rng_(20261124), t0_(m_.experiment.startTime.value_or(0.0)) {}
 
   void run();
 
@@ -245,9 +244,10 @@ private:
   std::vector<WorkRow> evaluateRows(const std::vector<Point> &pts,
                                     std::vector<Eigen::MatrixXd> &A,
                                     std::vector<Eigen::VectorXd> &r);
-  std::vector<std::pair<int, int>>
-  eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
-            std::vector<Eigen::VectorXd> &r, int rank);
+  std::vector<std::pair<int, int>> eliminate(std::vector<WorkRow> &rows,
+                                             std::vector<Eigen::MatrixXd> &A,
+                                             std::vector<Eigen::VectorXd> &r,
+                                             int rank);
 };
 
 void Sga::buildForm() {
@@ -308,7 +308,8 @@ bool Sga::project(Point &p, size_t count, const std::vector<char> *frozen) {
     r.resize(static_cast<Eigen::Index>(count));
     bool ok = true;
     for (size_t c = 0; c < count; ++c)
-      r[static_cast<Eigen::Index>(c)] = valueAt(out_.constraints[c].expr, env, ok);
+      r[static_cast<Eigen::Index>(c)] =
+          valueAt(out_.constraints[c].expr, env, ok);
     r = r.cwiseQuotient(weight);
     return ok;
   };
@@ -406,8 +407,8 @@ bool Sga::projectByGeneration(Point &p, size_t count) {
   std::vector<char> frozen(static_cast<size_t>(p.x.size()), 0);
   for (size_t done = 0; done < count;) {
     size_t end = done;
-    while (end < count &&
-           out_.constraints[end].generation == out_.constraints[done].generation)
+    while (end < count && out_.constraints[end].generation ==
+                              out_.constraints[done].generation)
       ++end;
     // Each constraint of the generation must read a slot that may move.
     bool movable = true;
@@ -417,8 +418,8 @@ bool Sga::projectByGeneration(Point &p, size_t count) {
         any = any || !frozen[static_cast<size_t>(s)];
       movable = any;
     }
-    bool ok = movable && (done == 0 ? project(p, end, nullptr)
-                                    : project(p, end, &frozen));
+    bool ok = movable &&
+              (done == 0 ? project(p, end, nullptr) : project(p, end, &frozen));
     if (!ok) {
       if (done == 0)
         return false; // a plain projection already
@@ -509,7 +510,8 @@ void Sga::assignUnstarted(Point &p) {
       }
       double &x = p.x[a.slot];
       const double next = x - r / a.coefficient;
-      settled = settled && std::abs(next - x) <= 1e-14 * std::max(1.0, std::abs(x));
+      settled =
+          settled && std::abs(next - x) <= 1e-14 * std::max(1.0, std::abs(x));
       x = next;
     }
     if (settled)
@@ -604,7 +606,8 @@ bool Sga::perturbAnchor(Point &p, int index) {
       double v = valueAt(out_.constraints[c].expr, env, ok);
       if (!ok)
         return std::numeric_limits<double>::infinity();
-      worst = std::max(worst, std::abs(v) / weight[static_cast<Eigen::Index>(c)]);
+      worst =
+          std::max(worst, std::abs(v) / weight[static_cast<Eigen::Index>(c)]);
     }
     return worst;
   };
@@ -755,9 +758,10 @@ std::vector<WorkRow> Sga::evaluateRows(const std::vector<Point> &pts,
   return rows;
 }
 
-std::vector<std::pair<int, int>>
-Sga::eliminate(std::vector<WorkRow> &rows, std::vector<Eigen::MatrixXd> &A,
-               std::vector<Eigen::VectorXd> &r, int rank) {
+std::vector<std::pair<int, int>> Sga::eliminate(std::vector<WorkRow> &rows,
+                                                std::vector<Eigen::MatrixXd> &A,
+                                                std::vector<Eigen::VectorXd> &r,
+                                                int rank) {
   const int nr = static_cast<int>(rows.size());
   const int nc = static_cast<int>(out_.form.columns.size());
   const size_t np = A.size();
@@ -895,8 +899,7 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
       continue;
     bool zero = true;
     for (size_t s = 0; s < A.size() && zero; ++s)
-      zero = A[s].cols() == 0 ||
-             A[s].row(i).cwiseAbs().maxCoeff() <= kZeroTol;
+      zero = A[s].cols() == 0 || A[s].row(i).cwiseAbs().maxCoeff() <= kZeroTol;
     if (zero)
       candidates.push_back(i);
   }
@@ -1045,7 +1048,8 @@ void Sga::findImpliedEquations() {
           gradients_.push_back(allGradients[k]);
         }
       const size_t rowsBefore = out_.rows.size();
-      anchorHolds_ = out_.constraints.size(); // all but c: the anchor meets them
+      // All but c: the anchor meets them.
+      anchorHolds_ = out_.constraints.size();
       addConstraint(phi.expr, phi.sources);
       out_.rows.resize(rowsBefore);
       std::vector<Point> pts;
