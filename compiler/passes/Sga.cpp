@@ -202,6 +202,9 @@ private:
   std::vector<char> assigned_; // per slot: computed by an assignment
   void findAssignments();
   void assignUnstarted(Point &p);
+  /// The start values at the start time, those left out computed by the
+  /// assignments.
+  Point startPoint();
   /// Per constraint: the slots it reads and its partial derivatives.
   std::vector<std::vector<std::pair<int, ir::ExprRef>>> gradients_;
   std::set<int> gaveConstraint_; // rows whose remainder became a constraint
@@ -525,7 +528,7 @@ void Sga::assignUnstarted(Point &p) {
 // a start value computed from their equations first, as initialization
 // would), or from the point of the previous step (on fewer constraints),
 // Gauss–Newton has little to do.
-bool Sga::findAnchor() {
+Point Sga::startPoint() {
   const size_t ns = out_.form.slots.size();
   Point given;
   given.t = t0_;
@@ -536,6 +539,12 @@ bool Sga::findAnchor() {
         k.order == 0 ? m_.variables[k.var].start : 0.0;
   }
   assignUnstarted(given);
+  return given;
+}
+
+bool Sga::findAnchor() {
+  const size_t ns = out_.form.slots.size();
+  Point given = startPoint();
   const size_t count = out_.constraints.size();
   auto accept = [&](Point &p) {
     anchor_ = std::move(p);
@@ -1132,6 +1141,8 @@ void Sga::run() {
     out_.rows.push_back(row);
   }
   findAssignments();
+  const Point given = startPoint();
+  out_.startGuess.assign(given.x.data(), given.x.data() + given.x.size());
   std::vector<Point> pts;
   if (!samplePoints(pts)) {
     out_.ran = false;

@@ -73,6 +73,11 @@ struct SgaResult {
   int freeFunctions = 0;
   int steps = 0;
   std::vector<double> point; // slots at a point of P_f
+  /// Slots at the start values, each unknown without one computed from
+  /// the equation that defines it (`lang = sqrt(...)`): the guesses
+  /// initialization starts from (an auxiliary guessed as 0 can be outside
+  /// its equations' domain: `force = .../lang`).
+  std::vector<double> startGuess;
 };
 
 /// Largest number of slots the SGA runs on inside the dd pipeline's

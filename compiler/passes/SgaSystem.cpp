@@ -74,6 +74,8 @@ bool buildSgaSystem(PassContext &pc, const SgaResult &sga, bool project,
       u.name = m.variableName(ir::VarKey{v, k});
       u.differential = true;
       u.start = k == 0 ? var.start : 0.0;
+      if (k == 0 && !var.hasStart && sys.unknowns.size() < sga.startGuess.size())
+        u.start = sga.startGuess[sys.unknowns.size()];
       u.startBinding = k == 0 ? var.startBinding : nullptr;
       u.nominal = var.nominal;
       u.fixed = k == 0 && var.fixed;
