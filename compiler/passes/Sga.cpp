@@ -939,9 +939,18 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
   // projections. Halves are tried without random draws: a failed half
   // costs at most two projections of the failure budget.
   std::set<int> batched;
+  // A half is tried only while every candidate before it has been added:
+  // a conflict is then named where the equations, in the user's order,
+  // first cannot hold together (x^2 = 1, then sin(x) = 0.5), not at an
+  // earlier equation that a later batch happens to contradict.
+  bool inOrder = true;
   std::function<void(size_t, size_t)> addChunk = [&](size_t lo, size_t hi) {
-    if (hi - lo < 2)
+    if (!inOrder)
       return;
+    if (hi - lo < 2) {
+      inOrder = hi == lo;
+      return;
+    }
     const size_t ncons = out_.constraints.size(), nrows = out_.rows.size();
     for (size_t k = lo; k < hi; ++k)
       addConstraint(rows[fresh[k]].rem, rows[fresh[k]].sources);
