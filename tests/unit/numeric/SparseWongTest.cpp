@@ -33,8 +33,9 @@ PencilAnalysis both(const SparsePencil &p, const char *path = nullptr) {
   EXPECT_EQ(red.stepsW, dense.stepsW);
   EXPECT_EQ(red.regular, dense.regular);
   EXPECT_EQ(red.freeDirections.cols(), dense.freeDirections.cols());
-  if (red.freeDirections.cols() == dense.freeDirections.cols())
+  if (red.freeDirections.cols() == dense.freeDirections.cols()) {
     EXPECT_TRUE(sameSubspace(red.freeDirections, dense.freeDirections, 1e-8));
+  }
   return red;
 }
 
