@@ -25,8 +25,9 @@ PencilAnalysis both(const SparsePencil &p, const char *path = nullptr) {
   PencilAnalysis dense = analyzePencil(p, {.denseLimit = 100000});
   PencilAnalysis red = analyzePencil(p, {.denseLimit = 0});
   EXPECT_EQ(dense.path, "dense");
-  if (path)
+  if (path) {
     EXPECT_EQ(red.path, path);
+  }
   EXPECT_TRUE(red.computed);
   EXPECT_EQ(red.dimV, dense.dimV);
   EXPECT_EQ(red.dimW, dense.dimW);
