@@ -40,18 +40,17 @@ ConstraintProjection::ConstraintProjection(const ModelEval &ev)
              ? ev.model().n_constraints
              : 0),
       c_(std::max(m_, 0)), jc_(size_t(std::max(m_, 0)) * ev.n()),
-      scale_(ev.n()) {
-  for (int i = 0; i < n_; ++i)
-    scale_(i) = ev.model().nominal ? ev.model().nominal[i] : 1.0;
+      noneHeld_(ev.n(), 0), fixedHeld_(ev.n(), 0), scale_(ev.n()) {
+  const ldae_model &m = ev.model();
+  for (int i = 0; i < n_; ++i) {
+    scale_(i) = m.nominal ? m.nominal[i] : 1.0;
+    fixedHeld_[i] = m.fixed && m.fixed[i] != 0;
+  }
 }
 
-std::vector<char> ConstraintProjection::fixedMask(bool holdFixed) const {
-  const ldae_model &m = ev_.model();
-  std::vector<char> held(n_, 0);
-  if (holdFixed && m.fixed)
-    for (int i = 0; i < n_; ++i)
-      held[i] = m.fixed[i] != 0;
-  return held;
+const std::vector<char> &
+ConstraintProjection::fixedMask(bool holdFixed) const {
+  return holdFixed ? fixedHeld_ : noneHeld_;
 }
 
 int ConstraintProjection::linearize(double t, const double *y,
@@ -169,7 +168,7 @@ int ConstraintProjection::projectStart(double t, double *y, bool holdFixed,
   if (m_ == 0)
     return 0;
   ++count_;
-  std::vector<char> held = fixedMask(holdFixed);
+  const std::vector<char> &held = fixedMask(holdFixed);
   if (int rc = ev_.model().constraints(t, y, ev_.params(), c_.data()))
     return rc;
   if (int rc = linearize(t, y, held))
@@ -242,7 +241,7 @@ int ConstraintProjection::correction(double t, const double *y, double *dy) {
     return 0;
   if (int rc = ev_.model().constraints(t, y, ev_.params(), c_.data()))
     return rc;
-  if (int rc = linearize(t, y, std::vector<char>(n_, 0)))
+  if (int rc = linearize(t, y, noneHeld_))
     return rc;
   d = scale_.cwiseProduct(
       leastNorm(-Eigen::Map<const Eigen::VectorXd>(c_.data(), m_)));

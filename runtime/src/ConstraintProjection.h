@@ -54,7 +54,7 @@ private:
   /// until max |c| decreases (a start may be far off).
   int iterate(double t, double *y, const std::vector<char> &held,
               double *dy, int maxIterations, bool damped);
-  std::vector<char> fixedMask(bool holdFixed) const;
+  const std::vector<char> &fixedMask(bool holdFixed) const;
   /// The least-norm z with A_ z = b (A_ as last linearized).
   Eigen::VectorXd leastNorm(const Eigen::VectorXd &b) const;
   /// Whether the constraints not `met` have full row rank in the unknowns
@@ -65,6 +65,10 @@ private:
   const ModelEval &ev_;
   int n_, m_;
   std::vector<double> c_, jc_;
+  /// The masks of held unknowns: none (the stabilized field's correction
+  /// at every f evaluation, the projection after each step) and those
+  /// with a fixed start value (the start).
+  std::vector<char> noneHeld_, fixedHeld_;
   Eigen::VectorXd scale_;
   Eigen::MatrixXd Jc_, A_;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_;
