@@ -13,6 +13,12 @@ namespace ldae::runtime {
 
 namespace {
 
+/// What "outside its domain" covers: the operations whose checks set a
+/// residual's error bit (CodePlan.h), the common ones named (also in
+/// failureText's Domain case).
+constexpr const char *kDomainExamples =
+    "(e.g. a division by zero, or sqrt or log of a negative number)";
+
 struct FailureText {
   const char *what;
   const char *hint;
@@ -42,8 +48,8 @@ FailureText failureText(FailureKind kind) {
     return {"the linear solve failed",
             "the model may be high index; try --method dd"};
   case FailureKind::Domain:
-    return {"an equation left its domain (e.g. sqrt or log of a negative "
-            "number) and smaller steps did not help",
+    return {"an equation left its domain (e.g. a division by zero, or sqrt "
+            "or log of a negative number) and smaller steps did not help",
             "check the start values and parameters; the solution may really "
             "leave the domain here"};
   case FailureKind::RootFunction:
@@ -259,11 +265,22 @@ std::string describeDomainRow(const ModelEval &ev, int set, int row,
 std::string describeInitDomainError(const ModelEval &ev, int set, int row,
                                     const double *y, double t) {
   return fmt::format("initialization failed at t = {:.10g}: an equation is "
-                     "outside its domain (e.g. sqrt or log of a negative "
-                     "number) at the start values",
-                     t) +
+                     "outside its domain {} at the start values",
+                     t, kDomainExamples) +
          describeDomainRow(ev, set, row, y, t, nullptr) +
          "\n  hint: check the start values and parameters";
+}
+
+std::string describeEventDomainError(const ModelEval &ev, int set, int row,
+                                     const double *y, double t) {
+  return fmt::format("the re-initialization after the event at t = {:.10g} "
+                     "failed: an equation is outside its domain {} in the "
+                     "mode the event entered",
+                     t, kDomainExamples) +
+         describeDomainRow(ev, set, row, y, t, nullptr) +
+         "\n  hint: in this mode an equation may no longer determine the "
+         "unknown it is solved for (a coefficient that is 0 here, such as a "
+         "resistance of 0, divides by 0); check the parameters";
 }
 
 std::string describeOutputDomainError(const ModelEval &ev, int output,
@@ -274,9 +291,8 @@ std::string describeOutputDomainError(const ModelEval &ev, int output,
                          ? m.output_names[output]
                          : fmt::format("output {}", output + 1);
   std::string msg = fmt::format(
-      "simulation failed at t = {:.10g}: computing '{}' left its domain "
-      "(e.g. sqrt or log of a negative number)",
-      t, name);
+      "simulation failed at t = {:.10g}: computing '{}' left its domain {}",
+      t, name, kDomainExamples);
   if (lastGood < t)
     msg += fmt::format("; at t = {:.10g} it was inside", lastGood);
   std::string origin = m.output_origin && m.output_origin[output]

@@ -24,6 +24,11 @@ std::string describeDomainRow(const ModelEval &ev, int set, int row,
 /// The whole message of a domain error met while initializing at `t`.
 std::string describeInitDomainError(const ModelEval &ev, int set, int row,
                                     const double *y, double t);
+/// The same met re-initializing after an event at `t`: the new discrete
+/// values make an equation undefined (an ideal diode with Ron = 0 that
+/// turns on divides by its resistance).
+std::string describeEventDomainError(const ModelEval &ev, int set, int row,
+                                     const double *y, double t);
 
 /// The report of a domain error met computing output `output` at `t` (the
 /// integration itself went on): the output, its equation's location and

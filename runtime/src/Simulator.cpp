@@ -287,7 +287,8 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
       reinitializeAfterEvent(ev, ida.set(), t, y, yp, held, nullptr);
   if (!init.ok) {
     failure = init.domainRow >= 0
-                  ? initFailure(ev, ida.set(), t, init)
+                  ? describeEventDomainError(ev, ida.set(), init.domainRow,
+                                             init.domainY.data(), t)
                   : fmt::format("the re-initialization after the event at t "
                                 "= {:.10g} failed: {}",
                                 t, init.failure);
