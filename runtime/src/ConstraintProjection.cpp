@@ -63,30 +63,37 @@ int ConstraintProjection::linearize(double t, const double *y,
   for (int i = 0; i < n_; ++i)
     if (held[i])
       A_.col(i).setZero();
+  // Rows equilibrated to unit max norm first: a row's scale is its
+  // constraint's units, which change neither the solution set nor, for
+  // consistent rows, the least-norm solution, but do change which rows a
+  // rank decision relative to the largest entry keeps. Unequilibrated,
+  // Andrews' acceleration constraints (terms near 1e9) left its loop
+  // closures (entries near 0.03) below the decomposition's threshold:
+  // Gauss-Newton's corrections vanished with loop closures 1e-7 off.
   // Full row rank (every P_f met so far): the least-norm solution from
-  // the row-equilibrated normal equations, Cholesky of an m x m product
-  // (the 50-link chain's 150 x 250 complete orthogonal decomposition was
-  // half of its run); rank-deficient (redundant constraints) or
-  // ill-conditioned: the complete orthogonal decomposition.
+  // the normal equations, Cholesky of an m x m product (the 50-link
+  // chain's 150 x 250 complete orthogonal decomposition was half of its
+  // run); rank-deficient (redundant constraints) or ill-conditioned: the
+  // complete orthogonal decomposition.
   rowScale_ = A_.rowwise().lpNorm<Eigen::Infinity>();
   normal_ = rowScale_.minCoeff() > 0;
+  rowScale_ = rowScale_.unaryExpr([](double r) { return r > 0 ? 1 / r : 1.0; });
+  As_ = rowScale_.asDiagonal() * A_;
   if (normal_) {
-    rowScale_ = rowScale_.cwiseInverse();
-    As_ = rowScale_.asDiagonal() * A_;
     llt_.compute(As_ * As_.transpose());
     const auto d = llt_.matrixLLT().diagonal();
     normal_ = llt_.info() == Eigen::Success &&
               d.minCoeff() > kNormalMinPivot * d.maxCoeff();
   }
   if (!normal_)
-    cod_.compute(A_);
+    cod_.compute(As_);
   return 0;
 }
 
 Eigen::VectorXd ConstraintProjection::leastNorm(const Eigen::VectorXd &b) const {
   if (normal_)
     return As_.transpose() * llt_.solve(rowScale_.cwiseProduct(b));
-  return cod_.solve(b);
+  return cod_.solve(rowScale_.cwiseProduct(b));
 }
 
 int ConstraintProjection::iterate(double t, double *y,

@@ -188,10 +188,23 @@ StepStatus failure(int flag) {
 /// stabilized field f(y) - gamma D (Jc D)^+ c(y), equal to f on P_f, whose
 /// drift decays at the rate gamma instead of growing (the pendulum's grows
 /// like t^3 through the lambda' row): gamma = kStabilization times
-/// ||df/dy||_inf at the start, a bound on the rates of the linearization.
+/// ||df/dy||_inf at the start (capped: kRateCap), a bound on the rates of
+/// the linearization.
 /// Larger makes Adams' steps stability-bound at loose tolerances (at 4 x
 /// this, the pendulum took more steps at rtol 1e-6 than at 1e-10).
 constexpr double kStabilization = 0.5;
+/// The norm bounds the rates only in units that are commensurate; it is
+/// capped at this many times the spectral radius, which no choice of
+/// units changes. Andrews' squeezer's norm, 4e10, is d v'/d m11 (v' =
+/// M^-1 (f - G^T lambda) against an inertia entry of 1e-6), not a rate:
+/// its spectral radius is 466, and gamma = 2e10 held Adams at 4e-11 s
+/// steps (100,000 of them before t = 4e-6). The pendulum's norm, 32,
+/// stays (its spectral radius at rest at theta0 = 1.5 is 0.83, below the
+/// rates of the swing: the cap must leave room for them; a gamma of 20
+/// times the radius there, 16.7 instead of 16, was 1.54e-6 off at rtol
+/// 1e-9 instead of 1.42e-6). Andrews at rtol 1e-10 is as accurate with a
+/// cap of 10, 40 or 100 and takes 1241, 1449, 1888 steps.
+constexpr double kRateCap = 40;
 /// And it restarts from the projected point when the drift's correction
 /// exceeds this many local error tolerances (WRMS norm in CVODE's error
 /// weights): a restart resets Adams' order and costs accuracy (with 684
@@ -422,16 +435,13 @@ StepStatus CvodeIntegrator::startOnConstraints(double t, double *y) {
   if (project_ && adams_) {
     // The drift of an Adams run decays at this rate instead of growing
     // (see kStabilization).
-    int n = ev_.n();
-    std::vector<double> f(n), J(size_t(n) * n);
-    if (I.implicit->rhs(t, y, f.data()) == 0 &&
-        I.implicit->jacobian(t, y, f.data(), J.data()) == 0)
+    Eigen::MatrixXd J;
+    Eigen::VectorXcd lambda;
+    if (linearization(t, y, J, lambda))
       I.cb.stabilize =
-          kStabilization * Eigen::Map<Eigen::MatrixXd>(J.data(), n, n)
-                               .cwiseAbs()
-                               .rowwise()
-                               .sum()
-                               .maxCoeff();
+          kStabilization *
+          std::min(J.cwiseAbs().rowwise().sum().maxCoeff(),
+                   kRateCap * lambda.cwiseAbs().maxCoeff());
   }
   return {};
 }
@@ -473,18 +483,17 @@ Expected<bool> CvodeIntegrator::setStopTime(double tstop) {
   return true;
 }
 
-bool CvodeIntegrator::spectrum(Eigen::VectorXcd &lambda) {
+bool CvodeIntegrator::linearization(double t, const double *y,
+                                    Eigen::MatrixXd &J,
+                                    Eigen::VectorXcd &lambda) {
   Impl &I = *impl_;
   int n = ev_.n();
-  if (n > kStiffnessCheckMaxN)
+  std::vector<double> f(n);
+  J.resize(n, n);
+  if (I.implicit->rhs(t, y, f.data()) != 0 ||
+      I.implicit->jacobian(t, y, f.data(), J.data()) != 0)
     return false;
-  const double *y = N_VGetArrayPointer(I.y);
-  std::vector<double> f(n), J(size_t(n) * n);
-  if (I.implicit->rhs(I.t, y, f.data()) != 0 ||
-      I.implicit->jacobian(I.t, y, f.data(), J.data()) != 0)
-    return false;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(
-      Eigen::Map<Eigen::MatrixXd>(J.data(), n, n), false);
+  Eigen::EigenSolver<Eigen::MatrixXd> es(J, false);
   if (es.info() != Eigen::Success)
     return false;
   lambda = es.eigenvalues();
@@ -493,8 +502,10 @@ bool CvodeIntegrator::spectrum(Eigen::VectorXcd &lambda) {
 
 bool CvodeIntegrator::looksStiff() {
   Impl &I = *impl_;
+  Eigen::MatrixXd J;
   Eigen::VectorXcd lambda;
-  if (!spectrum(lambda))
+  if (ev_.n() > kStiffnessCheckMaxN ||
+      !linearization(I.t, N_VGetArrayPointer(I.y), J, lambda))
     return false;
   double decay = 0; // the fastest decay rate, max -Re(lambda)
   for (Eigen::Index i = 0; i < lambda.size(); ++i)

@@ -60,8 +60,9 @@ private:
   /// a linearly implicit model.
   StepStatus afterAdamsStep(double t);
   bool looksStiff();
-  /// The eigenvalues of df/dy at the current point (false: not computed).
-  bool spectrum(Eigen::VectorXcd &lambda);
+  /// df/dy at (t, y) and its eigenvalues (false: not computed).
+  bool linearization(double t, const double *y, Eigen::MatrixXd &J,
+                     Eigen::VectorXcd &lambda);
   Expected<bool> switchToBdf();
 
   struct Impl;

@@ -6,7 +6,9 @@
 // (differentiate E f + F(t, y, 0) = 0: the y-derivative of E's entries
 // times f is dF/dy's y'-dependent part at y' = f, so this is exact for
 // rows linear in y'). CVODE integrates f with the model's own residual and
-// Jacobian functions.
+// Jacobian functions. E is equilibrated (rows, then columns) before it is
+// factored and its condition judged: a model's units must not make it
+// singular.
 #pragma once
 
 #include "ModelEval.h"
@@ -37,6 +39,8 @@ private:
   const ModelEval &ev_;
   int n_;
   Eigen::MatrixXd J0_, Jc_;
+  /// E's equilibration: lu_ factors diag(rowScale_) E diag(colScale_).
+  Eigen::VectorXd rowScale_, colScale_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   std::vector<double> zeros_, r_, yAt_;
   double tAt_ = 0;
