@@ -755,6 +755,39 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   int tinySteps = 0; // consecutive steps at round-off level
   long stepsSinceOutput = 0;
   std::vector<double> yAt(n), ypAt(n), cond;
+  // The grid rows up to `tEnd` (where the solution is yEnd, ypEnd), from
+  // the last step's polynomial; false (with the failure) when one cannot
+  // be interpolated or the table is full.
+  auto recordGridUpTo = [&](double tEnd, const double *yEnd,
+                            const double *ypEnd) {
+    for (; k_ <= nOut_ && gridTime(k_) <= tEnd; ++k_) {
+      stepsSinceOutput = 0;
+      double tk = gridTime(k_);
+      if (o_.everyStep)
+        continue;
+      if (tk == tEnd) {
+        if (!rec.record(tEnd, yEnd, ypEnd))
+          return false;
+        continue;
+      }
+      auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
+      if (!at) {
+        res_.failure = describeSolverError(tk, at.error());
+        return false;
+      }
+      // Out of the error test, an algebraic unknown's interpolant is no
+      // approximation of it (an ideal diode conducting: c.v 1e-3 off
+      // vs(t) between steps): solved from the interpolated states. Only
+      // for an index-1 system (whose default is the test on): above index
+      // one as written (--method raw) the states alone do not determine
+      // the algebraic unknowns, and the solve would fail at every row.
+      if (!errorTestAlgebraic && m.algebraic_error_test != 0)
+        settleAlgebraic(ev, ida.set(), tk, yAt, ypAt);
+      if (!rec.record(tk, yAt.data(), ypAt.data()))
+        return false;
+    }
+    return true;
+  };
   while (true) {
     StepStatus st = ida.step(t);
     if (st.ok() && ida.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
@@ -772,32 +805,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       res_.failure = describeFailure(ev, ida, st, ida.currentTime());
       return done(StageEnd::Done);
     }
-    bool recorded = !o_.everyStep || rec.record(t, ida.y(), ida.yp());
-    for (; recorded && k_ <= nOut_ && gridTime(k_) <= t; ++k_) {
-      stepsSinceOutput = 0;
-      double tk = gridTime(k_);
-      if (o_.everyStep)
-        continue;
-      if (tk == t) {
-        recorded = rec.record(t, ida.y(), ida.yp());
-        continue;
-      }
-      auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
-      if (!at) {
-        res_.failure = describeSolverError(tk, at.error());
-        recorded = false;
-        break;
-      }
-      // Out of the error test, an algebraic unknown's interpolant is no
-      // approximation of it (an ideal diode conducting: c.v 1e-3 off
-      // vs(t) between steps): solved from the interpolated states. Only
-      // for an index-1 system (whose default is the test on): above index
-      // one as written (--method raw) the states alone do not determine
-      // the algebraic unknowns, and the solve would fail at every row.
-      if (!errorTestAlgebraic && m.algebraic_error_test != 0)
-        settleAlgebraic(ev, ida.set(), tk, yAt, ypAt);
-      recorded = rec.record(tk, yAt.data(), ypAt.data());
-    }
+    bool recorded = (!o_.everyStep || rec.record(t, ida.y(), ida.yp())) &&
+                    recordGridUpTo(t, ida.y(), ida.yp());
     if (!recorded)
       return done(StageEnd::Done);
     bool timeEvent = st.kind == StepStatus::StopReached && t >= nextEvent;
@@ -825,6 +834,11 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       double tRoot = t;
       if (rootEvent) {
         pastTheRoots(ev, ida, t, y, yp);
+        // A grid time the move stepped over (a sine source's zero at an
+        // output time) still belongs to the old mode, and the integrator
+        // restarted at t could not reach back to it.
+        if (!recordGridUpTo(t, y.data(), yp.data()))
+          return done(StageEnd::Done);
       }
       size_t rows = res_.rows.size();
       if ((rows == 0 || res_.rows.back()[0] != t) &&
