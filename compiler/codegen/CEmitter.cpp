@@ -591,6 +591,30 @@ std::string printC(const CodePlan &plan, bool withMain) {
        << quote(sp.description) << "},\n";
   }
   os << "};\n\n";
+  for (size_t i = 0; i < plan.dynamicSets.size(); ++i) {
+    const DynamicSetPlan &dp = plan.dynamicSets[i];
+    std::string p = s + "_dynamic" + std::to_string(i);
+    printArray(os, "double", p + "_start", dp.start, dbl);
+    printArray(os, "int", p + "_state_slots", dp.stateSlots, integer);
+    printArray(os, "char *const", p + "_names", dp.names, str);
+  }
+  if (!plan.dynamicSets.empty()) {
+    os << "static const ldae_dynamic_set " << s << "_dynamic_sets[] = {\n";
+    for (size_t i = 0; i < plan.dynamicSets.size(); ++i) {
+      const DynamicSetPlan &dp = plan.dynamicSets[i];
+      std::string p = s + "_dynamic" + std::to_string(i);
+      os << "  {" << dp.rows << ", " << dp.forced << ", " << dp.candidates
+         << ", " << fnRef(dp.jacobian) << ", " << fnRef(dp.values) << ", "
+         << dp.param << ", " << p << "_start, " << p << "_state_slots, " << p
+         << "_names},\n";
+    }
+    os << "};\n\n";
+  }
+  const std::string dynamic = plan.dynamicSets.empty()
+                                  ? std::string("0, 0, 0")
+                                  : std::to_string(plan.dynamicSets.size()) +
+                                        ", " + s + "_dynamic_sets, " +
+                                        std::to_string(plan.selectionCount);
   os << "const ldae_model ldae_model_" << s << " = {\n"
      << "  LDAE_ABI_VERSION, " << quote(plan.name) << ",\n"
      << "  " << plan.n << ", " << s << "_var_names, " << s << "_start_y, " << s
@@ -622,8 +646,10 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << ", " << plan.testedRowind.size() << ", "
      << (tested ? s + "_tested_colptr" : "0") << ", "
      << (tested ? s + "_tested_rowind" : "0") << ", "
-     << fnRef(plan.testedJacobianCsc) << ",\n" << events << ",\n"
-     << results << ",\n" << bindings << "};\n\n"
+     << fnRef(plan.testedJacobianCsc) << ",\n"
+     << events << ",\n"
+     << results << ",\n"
+     << bindings << ",\n  " << dynamic << "};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
   if (withMain)

@@ -705,6 +705,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   }
   plan.paramValues = sys.parameterValues;
   plan.paramNames = sys.parameterNames;
+  plan.selectionCount = sys.selectionCount;
   plan.paramNames.resize(plan.paramValues.size());
   for (size_t i = 0; i < plan.paramNames.size(); ++i)
     if (plan.paramNames[i].empty())
@@ -806,6 +807,34 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
     for (size_t i = 0; i < set.states.size(); ++i)
       sp.description += (i ? ", " : " ") + set.states[i];
     plan.stateSets.push_back(std::move(sp));
+  }
+  {
+    const ir::StateSet &set0 = sys.stateSets[0];
+    KeyMap keys = buildKeyMap(sys, ir::setDifferential(sys, 0), set0.keys);
+    for (size_t d = 0; d < sys.dynamicSets.size(); ++d) {
+      const ir::DynamicStateSet &ds = sys.dynamicSets[d];
+      DynamicSetPlan dp;
+      dp.rows = ds.rows;
+      dp.forced = ds.forced;
+      dp.candidates = ds.candidates;
+      std::string suffix = "_" + std::to_string(d);
+      dp.jacobian =
+          valuesFunction("dynamic_jacobian" + suffix, ds.jacobian, keys);
+      dp.values = valuesFunction("dynamic_values" + suffix, ds.values, keys);
+      dp.param = static_cast<int>(ds.param);
+      dp.start = ds.start;
+      dp.names = ds.names;
+      for (ir::VarKey k : ds.states) {
+        int slot = -1;
+        for (unsigned i = 0; i < n && slot < 0; ++i)
+          if (sys.unknowns[i].key == k)
+            slot = static_cast<int>(i);
+        if (slot < 0)
+          return Error{"a dynamic state set's state has no slot"};
+        dp.stateSlots.push_back(slot);
+      }
+      plan.dynamicSets.push_back(std::move(dp));
+    }
   }
 
   KeyMap keys = buildKeyMap(sys, anyDiff);

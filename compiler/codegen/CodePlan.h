@@ -162,12 +162,25 @@ struct StateSetPlan {
   std::string description;
 };
 
+/// A block whose states the runtime chooses (ldae_dynamic_set).
+struct DynamicSetPlan {
+  int rows = 0, forced = 0, candidates = 0;
+  int jacobian = -1, values = -1; // functions
+  int param = 0;
+  std::vector<double> start;
+  std::vector<int> stateSlots;
+  std::vector<std::string> names;
+};
+
 /// Everything the C ABI struct holds, as plain data plus plan functions.
 struct CodePlan {
   std::string name;       // the model's name
   std::string symbolName; // a C identifier derived from it
   std::vector<PlanFunction> functions;
   std::vector<StateSetPlan> stateSets;
+  std::vector<DynamicSetPlan> dynamicSets;
+  /// Entries of p past the pre() values: the selection matrices.
+  unsigned selectionCount = 0;
   int initResidual = -1, initJacobian = -1, roots = -1, outputs = -1,
       drift = -1;
   /// dG/dy and dG/dy' of the initial equations in one CSC pattern.
@@ -218,9 +231,11 @@ struct CodePlan {
   EventPlan events;
 
   /// Entries of the p every function reads: the parameters, then each
-  /// discrete value and each pre() value (ldae_model's events block).
+  /// discrete value and each pre() value (ldae_model's events block), then
+  /// the selection matrices of the dynamic sets.
   size_t pSize() const {
-    return paramValues.size() + 2 * size_t(events.numDiscrete());
+    return paramValues.size() + 2 * size_t(events.numDiscrete()) +
+           selectionCount;
   }
 };
 

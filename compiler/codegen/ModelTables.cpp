@@ -155,6 +155,21 @@ ModelTables::ModelTables(const CodePlan &plan) {
   }
   m.n_state_sets = sets_.size();
   m.state_sets = sets_.data();
+  for (const DynamicSetPlan &dp : plan.dynamicSets) {
+    ldae_dynamic_set d{};
+    d.rows = dp.rows;
+    d.forced = dp.forced;
+    d.candidates = dp.candidates;
+    d.param = dp.param;
+    doubles_.push_back(dp.start);
+    d.start = doubles_.back().data();
+    d.state_slots = ints(dp.stateSlots);
+    d.names = names(dp.names);
+    dynamic_.push_back(d);
+  }
+  m.n_dynamic_sets = static_cast<int>(dynamic_.size());
+  m.dynamic_sets = dynamic_.empty() ? nullptr : dynamic_.data();
+  m.n_selection = static_cast<int>(plan.selectionCount);
   setEventTables(plan.events);
   setBindingTables(plan);
   setResultTables(plan);
@@ -182,6 +197,10 @@ void ModelTables::setFunctions(const CodePlan &plan,
     fn(sp.jacobianDense, sets_[i].jacobian_dense);
     fn(sp.jacobianCsc, sets_[i].jacobian_csc);
     fn(sp.pivot, sets_[i].pivot);
+  }
+  for (size_t i = 0; i < dynamic_.size(); ++i) {
+    fn(plan.dynamicSets[i].jacobian, dynamic_[i].jacobian);
+    fn(plan.dynamicSets[i].values, dynamic_[i].values);
   }
   fn(plan.initResidual, model_.init_residual);
   fn(plan.initJacobian, model_.init_jacobian);

@@ -55,6 +55,8 @@ private:
   std::vector<int> fixed_;
   std::vector<std::vector<int>> ints_; // differential flags, patterns
   std::vector<ldae_state_set> sets_;
+  std::vector<ldae_dynamic_set> dynamic_;
+  std::vector<std::vector<double>> doubles_; // dynamic sets' start A
   std::vector<std::string> descriptions_;
   std::string name_;
 };

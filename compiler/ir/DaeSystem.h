@@ -135,6 +135,26 @@ struct EventSystem {
   bool empty() const { return discrete.empty() && asserts.empty(); }
 };
 
+/// A block whose states are chosen at run time (ldae_dynamic_set): its
+/// states s = A c are unknowns of their own (differential), A a 0/1
+/// selection of the candidates c read from the parameter vector, and the
+/// residuals s - A c and s' - A c' hold in every state set.
+struct DynamicStateSet {
+  unsigned rows = 0, forced = 0, candidates = 0;
+  /// rows x (forced + candidates), column-major: the block's equations
+  /// differentiated by its columns, forced ones first.
+  std::vector<ExprRef> jacobian;
+  /// 2 * candidates: each candidate's value, then its derivative (the
+  /// dummy derivative slot).
+  std::vector<ExprRef> values;
+  std::vector<std::string> names; // candidates
+  /// A: (candidates - rows + forced) x candidates, column-major, from
+  /// ParamId `param` on; its value at the start.
+  ParamId param = 0;
+  std::vector<double> start;
+  std::vector<VarKey> states; // s_k, one unknown each
+};
+
 struct DaeSystem {
   std::shared_ptr<ExprContext> ctx;
   const Model *model = nullptr; // names, parameters, locations
@@ -180,6 +200,11 @@ struct DaeSystem {
   /// equation as written. Empty: no dummies, every row original.
   std::vector<std::vector<int>> dummyOf;
   std::vector<std::vector<bool>> originalRow;
+  /// Run-time state selection of large blocks; their selection matrices
+  /// take the parameter vector's entries past the discrete values' (from
+  /// the first set's `param` on, selectionCount in all).
+  std::vector<DynamicStateSet> dynamicSets;
+  unsigned selectionCount = 0;
 };
 
 /// Calls `f` on every expression of the event system (to rewrite it where

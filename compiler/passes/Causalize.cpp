@@ -96,6 +96,7 @@ private:
   enum class Branches { Reject, Allow };
   Solvability solvability(int row, ir::VarKey k, ir::ExprRef *coef,
                           Branches branches = Branches::Reject);
+  bool readsSelection(ir::ExprRef e) const;
   Solvability solvabilityIn(ir::ExprRef r, ir::VarKey k, ir::ExprRef *coef,
                             Branches branches = Branches::Reject);
   bool explicitOdeForm();
@@ -158,6 +159,18 @@ void Causalizer::findEligible() {
   }
 }
 
+bool Causalizer::readsSelection(ir::ExprRef e) const {
+  if (sys_.dynamicSets.empty())
+    return false;
+  const ir::ParamId first = sys_.dynamicSets.front().param;
+  for (ir::ExprRef x :
+       ir::topologicalOrder(std::span<const ir::ExprRef>(&e, 1)))
+    if (x->kind() == ir::ExprKind::Parameter && x->param() >= first &&
+        x->param() < first + sys_.selectionCount)
+      return true;
+  return false;
+}
+
 Solvability Causalizer::solvability(int row, ir::VarKey k, ir::ExprRef *coef,
                                      Branches branches) {
   return solvabilityIn(sys_.stateSets[0].residuals[row], k, coef, branches);
@@ -185,6 +198,10 @@ Solvability Causalizer::solvabilityIn(ir::ExprRef r, ir::VarKey k,
       if (e->kind() == ir::ExprKind::If && ir::dependsOn(e->operand(0), k))
         return Solvability::No;
   }
+  // A run-time selection matrix entry (dynamic state selection) is 0 or 1
+  // and changes during the run: never divide by it.
+  if (readsSelection(a))
+    return Solvability::No;
   *coef = a;
   if (variablesOf(a).empty() && !ir::dependsOnTime(a))
     return Solvability::Parameter;
@@ -481,6 +498,12 @@ bool Causalizer::rebuild() {
     for (ir::ExprRef &e : st.pivot)
       e = subst.apply(e);
   }
+  for (ir::DynamicStateSet &ds : next.dynamicSets) {
+    for (ir::ExprRef &e : ds.jacobian)
+      e = subst.apply(e);
+    for (ir::ExprRef &e : ds.values)
+      e = subst.apply(e);
+  }
   next.tested.clear();
   for (const Assignment &a : assignments_)
     next.tested.push_back({subst.apply(ctx_.var(key(a.unknown))),
@@ -522,6 +545,10 @@ bool Causalizer::rebuild() {
   for (const ir::StateSet &st : next.stateSets) {
     all.insert(all.end(), st.residuals.begin(), st.residuals.end());
     all.insert(all.end(), st.pivot.begin(), st.pivot.end());
+  }
+  for (const ir::DynamicStateSet &ds : next.dynamicSets) {
+    all.insert(all.end(), ds.jacobian.begin(), ds.jacobian.end());
+    all.insert(all.end(), ds.values.begin(), ds.values.end());
   }
   for (ir::ExprRef e : ir::topologicalOrder(all))
     if (e->kind() == ir::ExprKind::Variable && removed.count(code(e->varKey())))

@@ -12,9 +12,16 @@
 // which keeps it sparse. Candidates are ranked by stateSelect (never and
 // avoid first), then by the size of their Jacobian entry at the start point
 // (conditioning), then by derivative order, then by name. Where the top
-// level has small blocks whose choice depends on values (the pendulum: x or
-// y), every structurally possible choice becomes a candidate state set for
-// dynamic state selection at run time.
+// level has one-row blocks whose choice depends on values (the pendulum: x
+// or y), every structurally possible choice becomes a candidate state set
+// for dynamic state selection at run time. Larger value-dependent blocks
+// (the pendulum chain: n link constraints over 2n coordinates) would need
+// binomially many sets; they are chosen at run time instead (Mattsson,
+// Olsson and Soderlind): every candidate's derivative is a dummy, the
+// states are s = A c with a selection matrix A that the runtime sets from a
+// column-pivoted factorization of the block's Jacobian (numeric/
+// StatePivot.h), and the lower levels the block forces are chosen the same
+// way where they have a value-dependent choice left.
 #include "passes/Passes.h"
 #include "passes/Results.h"
 #include "passes/SystemStructure.h"
@@ -24,6 +31,7 @@
 #include "ir/Differentiate.h"
 #include "ir/Query.h"
 #include "numeric/Rank.h"
+#include "numeric/StatePivot.h"
 
 #include <Eigen/Dense>
 
@@ -37,7 +45,9 @@ namespace ldae::passes {
 
 namespace {
 
-constexpr int kMaxAmbiguousRows = 3;
+// Blocks of one row are enumerated (a candidate set each); larger ones are
+// chosen at run time.
+constexpr int kMaxAmbiguousRows = 1;
 constexpr int kMaxAmbiguousCols = 8;
 constexpr size_t kMaxStateSets = 16;
 constexpr int kDenseCheckLimit = 200;
@@ -84,6 +94,8 @@ public:
   /// space) keep the structural completion.
   std::vector<std::vector<int>>
   choose(const std::vector<std::pair<int, int>> &topOverride, bool atStart);
+  /// The blocks the first choose() made dynamic, for the result.
+  std::vector<DynamicBlock> dynamicBlocks() const;
   DummyChoice toChoice(const std::vector<std::vector<int>> &sel) const;
   void findAmbiguous();
 
@@ -117,11 +129,25 @@ private:
   ir::ExprRef entry(const Level &lv, int r, int c) const;
   bool hasEntry(const Level &lv, int r, int c) const;
   bool fixDense(Level &lv, int levelIndex, graph::Matching &m,
-                const std::vector<char> &forcedCol);
+                const std::vector<char> &forcedCol,
+                const std::vector<char> &skipRow);
+
+  /// A piece of a level chosen at run time (local rows and columns).
+  struct DynamicPiece {
+    int level;
+    std::vector<int> rows, forced, free;
+  };
+  bool valueDependent(const Level &lv, const std::vector<int> &rows) const;
+  /// Decides which pieces of level l are dynamic (first choose() only).
+  void findDynamic(int l, const std::vector<char> &forced,
+                   const std::vector<char> &forcedByDynamic,
+                   const graph::Matching &m);
 
   SelectionInput s_;
   mutable ir::Differentiator diff_;
   std::vector<Level> levels_;
+  bool dynamicDecided_ = false;
+  std::vector<DynamicPiece> dynamic_;
 };
 
 /// Larger entries first (better conditioned pivots); entries within 0.1%
@@ -240,7 +266,8 @@ bool Selector::hasEntry(const Level &lv, int r, int c) const {
 // selected submatrix is numerically singular at the start point: forced
 // columns first, then the best-ranked column with a usable pivot.
 bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
-                        const std::vector<char> &forcedCol) {
+                        const std::vector<char> &forcedCol,
+                        const std::vector<char> &skipRow) {
   graph::DmPart all;
   for (int r = 0; r < lv.g.numRows(); ++r)
     all.rows.push_back(r);
@@ -249,7 +276,7 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
   bool ok = true;
   for (const graph::DmPart &piece : graph::connectedPieces(lv.g, all)) {
     const int nr = static_cast<int>(piece.rows.size());
-    if (nr == 0 || nr > kDenseCheckLimit)
+    if (nr == 0 || nr > kDenseCheckLimit || skipRow[piece.rows[0]])
       continue;
     std::vector<int> sel;
     for (int r : piece.rows)
@@ -350,10 +377,22 @@ Selector::choose(const std::vector<std::pair<int, int>> &topOverride,
   const int L = levels();
   std::vector<std::vector<int>> selected(L);
   std::vector<std::pair<int, int>> prev; // (original equation, unknown)
+  std::vector<int> prevDynamic;          // unknowns selected by a dynamic block
   for (int l = L; l >= 1; --l) {
     Level &lv = levels_[l - 1];
     graph::Matching init(lv.g.numRows(), lv.g.numCols);
     std::vector<char> forced(lv.g.numCols, 0);
+    std::vector<char> forcedByDynamic(lv.g.numCols, 0);
+    for (int j : prevDynamic) {
+      int c = lv.colOfVar[j];
+      if (c < 0) {
+        failure = "the run-time state selection of level " +
+                  std::to_string(l + 1) + " does not carry to level " +
+                  std::to_string(l);
+        return {};
+      }
+      forced[c] = forcedByDynamic[c] = 1;
+    }
     auto hasEdge = [&](int r, int c) {
       const std::vector<int> &adj = lv.g.rows[r];
       return std::find(adj.begin(), adj.end(), c) != adj.end();
@@ -373,24 +412,143 @@ Selector::choose(const std::vector<std::pair<int, int>> &topOverride,
         init.match(r, c);
         forced[c] = 1;
       }
-    graph::Matching m = graph::maximumMatching(lv.g, {}, &init);
+    // The columns a dynamic block above forces have no row of their own:
+    // match them first, so the completion keeps them.
+    graph::Matching first = graph::maximumMatching(lv.g, forced, &init);
+    for (int c = 0; c < lv.g.numCols; ++c)
+      if (forced[c] && first.colMate[c] < 0) {
+        failure = "the selection of level " + std::to_string(l + 1) +
+                  " does not carry to level " + std::to_string(l);
+        return {};
+      }
+    graph::Matching m = graph::maximumMatching(lv.g, {}, &first);
     if (m.size < lv.g.numRows()) {
       failure = "no nonsingular choice of dummy derivatives at level " +
                 std::to_string(l);
       return {};
     }
-    if (atStart && !fixDense(lv, l, m, forced)) {
+    if (!dynamicDecided_)
+      findDynamic(l, forced, forcedByDynamic, m);
+    std::vector<char> dynamicRow(lv.g.numRows(), 0);
+    std::vector<int> dynamicCols;
+    for (const DynamicPiece &d : dynamic_)
+      if (d.level == l) {
+        for (int r : d.rows)
+          dynamicRow[r] = 1;
+        for (int c : d.free)
+          if (m.colMate[c] < 0)
+            dynamicCols.push_back(c);
+      }
+    if (atStart && !fixDense(lv, l, m, forced, dynamicRow)) {
       failure = "the Jacobian of the differentiated equations at level " +
                 std::to_string(l) + " is singular at the start point";
       // Keep the structural choice: a singular start point is a warning.
     }
+    // Selected per row in row order (pivot() reads them so), then the
+    // dynamic blocks' candidates no row took.
     prev.clear();
+    prevDynamic.clear();
     for (int r = 0; r < lv.g.numRows(); ++r) {
-      prev.emplace_back(lv.rowEq[r], lv.colVar[m.rowMate[r]]);
-      selected[l - 1].push_back(lv.colVar[m.rowMate[r]]);
+      int j = lv.colVar[m.rowMate[r]];
+      if (dynamicRow[r] || forcedByDynamic[m.rowMate[r]])
+        prevDynamic.push_back(j);
+      else
+        prev.emplace_back(lv.rowEq[r], j);
+      selected[l - 1].push_back(j);
+    }
+    for (int c : dynamicCols) {
+      prevDynamic.push_back(lv.colVar[c]);
+      selected[l - 1].push_back(lv.colVar[c]);
     }
   }
+  dynamicDecided_ = true;
   return selected;
+}
+
+bool Selector::valueDependent(const Level &lv,
+                              const std::vector<int> &rows) const {
+  for (int r : rows)
+    for (const Edge &e : lv.edges[r])
+      if (!entry(lv, r, e.col)->isConstant())
+        return true;
+  return false;
+}
+
+// A piece is chosen at run time when its choice depends on values and it
+// is too large to enumerate (top level), or when a dynamic block above
+// forces columns into it and a value-dependent choice is left (the chain's
+// velocities below its positions).
+void Selector::findDynamic(int l, const std::vector<char> &forced,
+                           const std::vector<char> &forcedByDynamic,
+                           const graph::Matching &m) {
+  const Level &lv = levels_[l - 1];
+  graph::DmPart all;
+  for (int r = 0; r < lv.g.numRows(); ++r)
+    all.rows.push_back(r);
+  for (int c = 0; c < lv.g.numCols; ++c)
+    all.cols.push_back(c);
+  for (const graph::DmPart &piece : graph::connectedPieces(lv.g, all)) {
+    DynamicPiece d{l, piece.rows, {}, {}};
+    bool belowDynamic = false;
+    for (int c : piece.cols) {
+      (forced[c] ? d.forced : d.free).push_back(c);
+      belowDynamic = belowDynamic || forcedByDynamic[c];
+    }
+    const int rows = static_cast<int>(piece.rows.size());
+    const int choose = rows - static_cast<int>(d.forced.size());
+    if (choose < 1 || static_cast<int>(d.free.size()) <= choose)
+      continue;
+    bool large = rows > kMaxAmbiguousRows ||
+                 static_cast<int>(piece.cols.size()) > kMaxAmbiguousCols;
+    if (!(l == levels() ? large : belowDynamic) ||
+        !valueDependent(lv, piece.rows))
+      continue;
+    // Every row matched inside the piece (the matching covers all rows).
+    for (int r : piece.rows)
+      if (m.rowMate[r] < 0)
+        return;
+    dynamic_.push_back(std::move(d));
+  }
+}
+
+std::vector<DynamicBlock> Selector::dynamicBlocks() const {
+  std::vector<DynamicBlock> out;
+  ir::ExprContext &ctx = s_.model.ctx();
+  ir::EvalEnv env = s_.startEnv();
+  for (const DynamicPiece &d : dynamic_) {
+    const Level &lv = levels_[d.level - 1];
+    DynamicBlock b;
+    b.level = d.level;
+    b.rows = static_cast<unsigned>(d.rows.size());
+    auto key = [&](int c) {
+      int j = lv.colVar[c];
+      return ir::VarKey{s_.unknowns[j],
+                        static_cast<unsigned>(s_.highest[j] - d.level)};
+    };
+    std::vector<int> cols = d.forced;
+    cols.insert(cols.end(), d.free.begin(), d.free.end());
+    for (int c : d.forced)
+      b.forced.push_back(key(c));
+    for (int c : d.free)
+      b.candidates.push_back(key(c));
+    Eigen::MatrixXd J(d.rows.size(), cols.size());
+    for (size_t k = 0; k < cols.size(); ++k)
+      for (size_t r = 0; r < d.rows.size(); ++r) {
+        ir::ExprRef e = hasEntry(lv, d.rows[r], cols[k])
+                            ? entry(lv, d.rows[r], cols[k])
+                            : ctx.zero();
+        b.jacobian.push_back(e);
+        auto v = ir::evaluate(e, env);
+        J(r, k) = v ? *v : std::numeric_limits<double>::quiet_NaN();
+      }
+    b.startDummies = numeric::pivotDummies(
+        numeric::reduceForced(J, static_cast<int>(d.forced.size())));
+    if (b.startDummies.empty()) // not finite at the start: the first ones
+      for (size_t k = 0; k < d.rows.size() - d.forced.size(); ++k)
+        b.startDummies.push_back(static_cast<int>(k));
+    out.push_back(std::move(b));
+  }
+  return out;
 }
 
 DummyChoice
@@ -422,6 +580,12 @@ void Selector::findAmbiguous() {
     const int nc = static_cast<int>(piece.cols.size());
     if (nr == 0 || nr > kMaxAmbiguousRows || nc > kMaxAmbiguousCols ||
         nc <= nr)
+      continue;
+    bool isDynamic = false;
+    for (const DynamicPiece &d : dynamic_)
+      isDynamic = isDynamic ||
+                  (d.level == levels() && d.rows.front() == piece.rows.front());
+    if (isDynamic)
       continue;
     bool valueDependent = false;
     for (int r : piece.rows)
@@ -564,6 +728,7 @@ bool DummyDerivativesPass::runOn(PassContext &ctx, const MatchingResult &mr,
   if (!sel.failure.empty())
     ctx.diags.report(DiagId::WarnDummySelectionAtStart, ctx.model.loc,
                    {sel.failure});
+  out.dynamic = sel.dynamicBlocks();
   sel.findAmbiguous();
   std::vector<std::vector<std::vector<int>>> selections{first};
   // Alternatives: one ambiguous block switched at a time.
@@ -634,8 +799,13 @@ bool DummyDerivativesPass::runOn(PassContext &ctx, const MatchingResult &mr,
 
   // The result must need as many dummies as there were differentiations.
   // (Every row after the equations is one differentiation.)
+  // A dynamic block's states are new unknowns with two equations each,
+  // one more dummy per state.
   int dummies = 0;
   int diffs = static_cast<int>(red.rows.size() - mr.equations.size());
+  for (const DynamicBlock &b : out.dynamic)
+    diffs += static_cast<int>(b.candidates.size() + b.forced.size()) -
+             static_cast<int>(b.rows);
   for (size_t j = 0; j < mr.unknowns.size(); ++j)
     dummies += red.highest[j] + 1 - out.choices[0][j];
   if (dummies != diffs) {
@@ -675,6 +845,20 @@ void DummyDerivativesPass::print(PassContext &ctx, ResultStore &results,
     }
     out << "// state set " << set << ": states " << quotedList(states)
         << "; dummy derivatives " << quotedList(dummies) << "\n";
+  }
+  for (size_t b = 0; b < dc.dynamic.size(); ++b) {
+    const DynamicBlock &blk = dc.dynamic[b];
+    std::vector<std::string> cands, start;
+    for (size_t j = 0; j < blk.candidates.size(); ++j) {
+      cands.push_back(ctx.model.variableName(blk.candidates[j]));
+      if (!std::binary_search(blk.startDummies.begin(), blk.startDummies.end(),
+                              static_cast<int>(j)))
+        start.push_back(cands.back());
+    }
+    out << "// chosen at run time " << b + 1 << ": "
+        << blk.candidates.size() + blk.forced.size() - blk.rows
+        << " states among " << quotedList(cands)
+        << " (start: " << quotedList(start) << ")\n";
   }
 }
 

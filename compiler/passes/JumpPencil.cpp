@@ -46,6 +46,12 @@ void fillJumpPencil(const PassContext &pc, const MatchingResult &mr,
   for (size_t i = 0; i < mr.equations.size(); ++i)
     for (int r = static_cast<int>(i); r >= 0; r = red.rows[r].next)
       common.push_back(red.rows[r].times == 0);
+  // A dynamic set's x - A c as written, der(x) - A der(c) its derivative.
+  for (const ir::DynamicStateSet &ds : sys.dynamicSets)
+    for (size_t k = 0; k < ds.states.size(); ++k) {
+      common.push_back(true);
+      common.push_back(false);
+    }
   for (size_t set = 0; set < sys.stateSets.size(); ++set) {
     std::vector<int> dummy(n, -1);
     for (size_t j = 0; j < mr.unknowns.size(); ++j)

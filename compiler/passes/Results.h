@@ -62,6 +62,22 @@ struct IndexReduction {
 /// or highest[j] + 1 when none is.
 using DummyChoice = std::vector<int>;
 
+/// A block of the dummy-derivative selection whose choice is made at run
+/// time (numeric/StatePivot.h): at its level, `rows` equations over the
+/// `forced` columns (dummies chosen above) and the `candidates`, of which
+/// rows - forced become dummies; the others are the states, through
+/// s = A c with the selection matrix A (ir::DynamicStateSet).
+struct DynamicBlock {
+  int level = 0;
+  unsigned rows = 0;
+  std::vector<ir::VarKey> forced, candidates; // unknowns at the block's order
+  /// rows x (forced + candidates), column-major, over Variable nodes before
+  /// layout substitution.
+  std::vector<ir::ExprRef> jacobian;
+  /// Indices into candidates of the dummies at the start point.
+  std::vector<int> startDummies;
+};
+
 /// "dummy-derivatives": the candidate state sets, choices[0] the initial
 /// one.
 struct DummyChoices {
@@ -70,6 +86,10 @@ struct DummyChoices {
   /// over Variable nodes before layout substitution), square.
   std::vector<std::vector<ir::ExprRef>> pivots;
   std::vector<unsigned> pivotSizes;
+  /// Blocks too large to enumerate, chosen at run time (the same in every
+  /// choice): all their candidates' next derivatives are dummies in
+  /// `choices`, and build-system adds the state set equations.
+  std::vector<DynamicBlock> dynamic;
 };
 
 /// "blt" (and again "prune"): per state set of the DaeSystem, the slots

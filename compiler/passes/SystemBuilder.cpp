@@ -12,6 +12,11 @@
 // variable (named `der(x)`) so that no Variable node can be read both as a
 // y and as a y' entry. Where such an order is not a dummy, a link residual
 // `der(previous slot) - slot` ties it to its derivative.
+//
+// A block chosen at run time (DummyChoices::dynamic) adds its states
+// s = A c as unknowns of their own, differential in every set, with the
+// rows s - A c and der(s) - A der(c); A reads parameters past the discrete
+// values' (ir::DynamicStateSet).
 #include "passes/Events.h"
 #include "passes/JumpPencil.h"
 #include "passes/Passes.h"
@@ -141,6 +146,104 @@ bool buildOutputs(PassContext &pc, const AliasResult &alias,
 
 namespace {
 
+/// The states, rows and tables of the blocks chosen at run time: per block
+/// and state k, the unknown s_k (start value A c at the start), the rows
+/// s_k - sum_j A_kj c_j and der(s_k) - sum_j A_kj der(c_j) appended to
+/// `common`, and the block's Jacobian and candidate values for the runtime.
+void addDynamicSets(PassContext &pc, const EventResult &ev,
+                    const DummyChoices &dc, VarSubstitution &subst,
+                    ir::DaeSystem &sys, std::vector<ir::ExprRef> &common) {
+  if (dc.dynamic.empty())
+    return;
+  ir::Model &m = pc.model;
+  ir::ExprContext &ctx = m.ctx();
+  ir::EvalEnv env = pc.startEnv();
+  // p holds the user's parameters, the discrete values and their pre()
+  // values; the selection matrices follow. The model's parameter list
+  // gets entries up to there so that names print and start values read.
+  const size_t nd = ev.discrete.size();
+  const size_t base = m.userParameterCount() + 2 * nd;
+  auto setParam = [&](size_t id, std::string name, double value) {
+    while (m.parameters.size() <= id) {
+      ir::Parameter p;
+      p.discrete = true;
+      m.parameters.push_back(p);
+    }
+    ir::Parameter &p = m.parameters[id];
+    p.name = std::move(name);
+    p.value = value;
+    p.discrete = true;
+  };
+  for (size_t k = m.userParameterCount() + nd; k < base; ++k)
+    setParam(k, "pre(" + m.parameters[k - nd].name + ")",
+             m.parameters[k - nd].value);
+  size_t next = base;
+  for (size_t b = 0; b < dc.dynamic.size(); ++b) {
+    const DynamicBlock &blk = dc.dynamic[b];
+    ir::DynamicStateSet ds;
+    ds.rows = blk.rows;
+    ds.forced = static_cast<unsigned>(blk.forced.size());
+    ds.candidates = static_cast<unsigned>(blk.candidates.size());
+    const unsigned ns = ds.candidates + ds.forced - ds.rows;
+    const std::string set = "$stateset" + std::to_string(b + 1);
+    for (ir::ExprRef e : blk.jacobian)
+      ds.jacobian.push_back(subst.apply(e));
+    std::vector<ir::ExprRef> c, dcs;
+    for (ir::VarKey k : blk.candidates) {
+      c.push_back(subst.apply(ctx.var(k.var, k.order)));
+      dcs.push_back(subst.apply(ctx.var(k.var, k.order + 1)));
+      ds.names.push_back(m.variableName(k));
+    }
+    ds.values = c;
+    ds.values.insert(ds.values.end(), dcs.begin(), dcs.end());
+    // The start's states: the candidates the start's pivoting left.
+    std::vector<int> states;
+    for (int j = 0; j < static_cast<int>(ds.candidates); ++j)
+      if (!std::binary_search(blk.startDummies.begin(), blk.startDummies.end(),
+                              j))
+        states.push_back(j);
+    ds.param = static_cast<ir::ParamId>(next);
+    ds.start.assign(size_t(ns) * ds.candidates, 0.0);
+    for (unsigned k = 0; k < ns && k < states.size(); ++k)
+      ds.start[k + size_t(ns) * states[k]] = 1;
+    for (unsigned j = 0; j < ds.candidates; ++j)
+      for (unsigned k = 0; k < ns; ++k)
+        setParam(next++,
+                 set + ".A[" + std::to_string(k + 1) + "," +
+                     std::to_string(j + 1) + "]",
+                 ds.start[k + size_t(ns) * j]);
+    for (unsigned k = 0; k < ns; ++k) {
+      ir::Variable v;
+      v.name = set + ".x[" + std::to_string(k + 1) + "]";
+      v.loc = m.loc;
+      ir::VarId sv = m.addVariable(v);
+      std::vector<ir::ExprRef> value, slope;
+      double start = 0;
+      for (unsigned j = 0; j < ds.candidates; ++j) {
+        ir::ExprRef a = ctx.param(ds.param + k + ns * j);
+        value.push_back(ctx.mul(a, c[j]));
+        slope.push_back(ctx.mul(a, dcs[j]));
+        if (ds.start[k + size_t(ns) * j] != 0)
+          if (auto s0 = ir::evaluate(c[j], env))
+            start += *s0;
+      }
+      common.push_back(ctx.sub(ctx.var(sv, 0), ctx.add(value)));
+      common.push_back(ctx.sub(ctx.var(sv, 1), ctx.add(slope)));
+      sys.residualLocs.push_back(m.loc);
+      sys.residualLocs.push_back(m.loc);
+      ir::SystemUnknown u;
+      u.key = {sv, 0};
+      u.name = v.name;
+      u.start = start;
+      u.loc = m.loc;
+      sys.unknowns.push_back(u);
+      ds.states.push_back(u.key);
+    }
+    sys.dynamicSets.push_back(std::move(ds));
+  }
+  sys.selectionCount = static_cast<unsigned>(next - base);
+}
+
 class BuildSystemPass
     : public TypedPass<BuildSystemPass,
                        Reads<EventResult, AliasResult, MatchingResult,
@@ -227,7 +330,6 @@ bool BuildSystemPass::runOn(PassContext &pc, const EventResult &ev,
       slotOf.emplace_back(j, k);
     }
   }
-  const size_t n = sys.unknowns.size();
 
   // Residuals shared by every set: the equations and their derivatives.
   std::vector<ir::ExprRef> common;
@@ -240,6 +342,8 @@ bool BuildSystemPass::runOn(PassContext &pc, const EventResult &ev,
     if (red.rows[i].next >= 0)
       sys.constraints.push_back(subst.apply(red.rows[i].residual));
   }
+  addDynamicSets(pc, ev, dc, subst, sys, common);
+  const size_t n = sys.unknowns.size();
 
   for (size_t set = 0; set < nsets; ++set) {
     const DummyChoice &choice = dc.choices[set];
@@ -247,6 +351,10 @@ bool BuildSystemPass::runOn(PassContext &pc, const EventResult &ev,
     st.residuals = common;
     st.differential.assign(n, false);
     for (size_t u = 0; u < n; ++u) {
+      if (u >= slotOf.size()) { // a dynamic block's state
+        st.differential[u] = true;
+        continue;
+      }
       auto [j, k] = slotOf[u];
       const Slots &sl = slots[j];
       unsigned order = sl.orders[k];
@@ -277,7 +385,7 @@ bool BuildSystemPass::runOn(PassContext &pc, const EventResult &ev,
       st.pivot.push_back(subst.apply(e));
     StateSetReport rep;
     rep.states = st.states;
-    for (size_t u = 0; u < n; ++u) {
+    for (size_t u = 0; u < slotOf.size(); ++u) {
       auto [j, k] = slotOf[u];
       if (slots[j].orders[k] >= 1 &&
           static_cast<int>(slots[j].orders[k]) >= choice[j])

@@ -15,6 +15,17 @@ ModelEval::ModelEval(const ldae_model &m, std::vector<double> params)
     p_.insert(p_.end(), m.discrete_start, m.discrete_start + nd);
     p_.insert(p_.end(), m.discrete_start, m.discrete_start + nd);
   }
+  // The selection matrices of dynamic state selection (ABI 8) follow.
+  const size_t withSelection =
+      size_t(std::max(m.n_params, 0)) + 2 * nd + std::max(m.n_selection, 0);
+  if (m.n_selection > 0 && p_.size() < withSelection) {
+    p_.resize(withSelection, 0.0);
+    for (int d = 0; d < m.n_dynamic_sets; ++d) {
+      const ldae_dynamic_set &s = m.dynamic_sets[d];
+      int size = (s.forced + s.candidates - s.rows) * s.candidates;
+      std::copy(s.start, s.start + size, p_.begin() + s.param);
+    }
+  }
 }
 
 std::string ModelEval::discreteName(int k) const {

@@ -389,13 +389,12 @@ bool initialize(ModelEval &ev, Integrator &ida, int set, double t0,
 }
 
 /// Restarts IDA at the current point with state set `to`.
-bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
-                  double tNext, const std::vector<double> &cond, SimResult &res,
-                  std::ostream *log) {
-  int from = ida.set();
-  int n = ev.n();
-  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
-  auto re = ida.reinit(to, t, y.data(), yp.data());
+/// Restarts the integrator at (t, y, y') with state set `set` after a
+/// switch of states.
+bool restartWith(const ModelEval &ev, Integrator &ida, int set, double t,
+                 double tNext, std::vector<double> &y, std::vector<double> &yp,
+                 SimResult &res) {
+  auto re = ida.reinit(set, t, y.data(), yp.data());
   if (!re) {
     res.failure = describeSolverError(t, re.error());
     return false;
@@ -403,9 +402,20 @@ bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
   StepStatus started = ida.completeStart(tNext);
   if (!started.ok()) {
     res.failure = describeInitFailure(ev, ida, started, t) +
-                  " (after switching state sets)";
+                  " (after switching states)";
     return false;
   }
+  return true;
+}
+
+bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
+                  double tNext, const std::vector<double> &cond, SimResult &res,
+                  std::ostream *log) {
+  int from = ida.set();
+  int n = ev.n();
+  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
+  if (!restartWith(ev, ida, to, t, tNext, y, yp, res))
+    return false;
   ++res.stats.stateSwitches;
   if (log) {
     auto desc = [&](int k) {
@@ -416,6 +426,28 @@ bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
                         "'{}' (pivot condition {:.3g} -> {:.3g})\n",
                         t, desc(from), desc(to), cond[from], cond[to]);
   }
+  return true;
+}
+
+/// Dynamic state selection of the large blocks (StateSelection.h): where a
+/// block's states switch, the integrator restarts from the same point with
+/// the new selection.
+bool reselectStates(ModelEval &ev, Integrator &ida, double t, double tNext,
+                    SimResult &res, std::ostream *log) {
+  int n = ev.n();
+  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
+  std::vector<DynamicSwitch> sw =
+      reselectDynamicSets(ev, t, y.data(), yp.data());
+  if (sw.empty())
+    return true;
+  if (!restartWith(ev, ida, ida.set(), t, tNext, y, yp, res))
+    return false;
+  res.stats.stateSwitches += static_cast<int>(sw.size());
+  for (const DynamicSwitch &d : sw)
+    if (log)
+      *log << fmt::format("t = {:.10g}: state selection switched from '{}' to "
+                          "'{}' (pivot condition {:.3g} -> {:.3g})\n",
+                          t, d.from, d.to, d.condFrom, d.condTo);
   return true;
 }
 
@@ -611,6 +643,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
 
   // Start with the best-conditioned state set at the start point.
   int set = chooseStateSet(pivotConditions(ev, t, y.data(), yp.data()), 0);
+  reselectDynamicSets(ev, t, y.data(), yp.data());
   ErrorWeights weights(ev, s_.rtol, s_.atol);
   const bool errorTestAlgebraic =
       o_.algebraicErrorTest.value_or(m.algebraic_error_test != 0);
@@ -873,6 +906,10 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         return done(StageEnd::Done);
       events.setStateSet(ida.set());
     }
+    if (m.n_dynamic_sets > 0 &&
+        !reselectStates(ev, ida, t, std::min(s_.stop, t + s_.interval), res_,
+                        o_.log))
+      return done(StageEnd::Done);
     progress_.update(t);
   }
   // The last row is the stop time's; then the terminal event.

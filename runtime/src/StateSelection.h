@@ -10,10 +10,18 @@
 //   cond_c > kSwitchThreshold  and  cond_b * kHysteresis < cond_c,
 // so a set is left only when it is clearly bad and another is clearly
 // better, and the run does not flip back and forth at the boundary.
+//
+// Blocks too large to enumerate (ldae_model::dynamic_sets) are chosen the
+// same way between two candidates: the current dummies and the ones a
+// column-pivoted factorization of the block's Jacobian picks now
+// (numeric/StatePivot.h), each measured by dummyCondition. A switch
+// rewrites the selection matrix A in p and sets the block's states and
+// their derivatives to A c and A der(c), so the point stays consistent.
 #pragma once
 
 #include "ModelEval.h"
 
+#include <string>
 #include <vector>
 
 namespace ldae::runtime {
@@ -30,5 +38,19 @@ std::vector<double> pivotConditions(const ModelEval &ev, double t,
 
 /// The set to continue with: `current`, or a better one by the rule above.
 int chooseStateSet(const std::vector<double> &cond, int current);
+
+/// One dynamic set switched by reselectDynamicSets.
+struct DynamicSwitch {
+  int set = 0;
+  std::string from, to; // the states' names
+  double condFrom = 0, condTo = 0;
+};
+
+/// Re-chooses the states of every dynamic set at (t, y, y') by the rule
+/// above; where one switches, writes its A into ev's p and its states and
+/// their derivatives into y and yp. Returns what switched (empty: nothing;
+/// a set whose Jacobian cannot be evaluated keeps its states).
+std::vector<DynamicSwitch> reselectDynamicSets(ModelEval &ev, double t,
+                                               double *y, double *yp);
 
 } // namespace ldae::runtime

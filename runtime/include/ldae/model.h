@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 7
+#define LDAE_ABI_VERSION 8
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -94,6 +94,26 @@ typedef struct ldae_state_set {
   ldae_pivot_fn pivot;
   const char *description;             /* e.g. "states: y, der(y)" */
 } ldae_state_set;
+
+/* A block whose states the runtime chooses (ABI 8; docs/runtime.md,
+   "Dynamic state selection"): `rows` equations over `forced` columns that
+   are dummy derivatives always and `candidates` columns of which
+   rows - forced are dummies at any time; the others are the states
+   x_k = sum_j A[k][j] c_j, unknowns state_slots[k] of y with their own
+   residuals x - A c and der(x) - A der(c). A, 0/1 and column-major
+   (n_states x candidates, n_states = forced + candidates - rows), is
+   p[param ...]: changing it (and setting x, der(x) to A c, A der(c))
+   switches the states without leaving the state set. */
+typedef struct ldae_dynamic_set {
+  int rows, forced, candidates;
+  ldae_pivot_fn jacobian;   /* rows x (forced + candidates), column-
+                               major, the forced columns first */
+  ldae_pivot_fn values;     /* 2 * candidates: c, then der(c) */
+  int param;                /* p index of A */
+  const double *start;      /* A at the start (n_states x candidates) */
+  const int *state_slots;   /* n_states */
+  const char *const *names; /* candidates */
+} ldae_dynamic_set;
 
 typedef struct ldae_model {
   int abi_version;                     /* LDAE_ABI_VERSION */
@@ -306,6 +326,13 @@ typedef struct ldae_model {
   const int *bound_starts;             /* n_bound_starts: unknown indices */
   int bind_passes;
   const int *param_structural;         /* n_params */
+
+  /* ---- Dynamic state selection of large blocks (ABI 8) ----
+     p holds n_selection entries past the discrete values' pre() values:
+     the selection matrices of the dynamic sets. */
+  int n_dynamic_sets;
+  const ldae_dynamic_set *dynamic_sets;
+  int n_selection;
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians
