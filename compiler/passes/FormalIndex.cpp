@@ -14,44 +14,43 @@
 // first), and a dimension by ranks: at a point of R_{q+s}, the codimension
 // of R_q^(s) in J_q is rank J - rank J_high, J the Jacobian of the prolonged
 // equations w.r.t. all coordinates and J_high its columns of order > q
-// (numeric/ProjectedRank.h). The point is random: a random start (time
-// included) brought onto R_{q+s} by Gauss–Newton; each step takes the
-// codimension most of kPoints points agree on. Nothing is decided from
-// syntactic zeros. See docs/indices.md.
+// (numeric/ProjectedRank.h). The points are the SGA's (ManifoldSampler.h):
+// moves of an anchor reached from the start values at s = 0, then carried
+// from step to step; each step takes the codimension most of kPoints points
+// agree on. Nothing is decided from syntactic zeros. See docs/indices.md.
 #include "passes/FormalIndex.h"
+#include "passes/ManifoldSampler.h"
 #include "passes/Passes.h"
 
 #include "ir/Differentiate.h"
-#include "ir/Evaluate.h"
 #include "ir/Query.h"
-#include "numeric/Newton.h"
 #include "numeric/ProjectedRank.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <optional>
-#include <random>
 
 namespace ldae::passes {
 
 namespace {
 
-constexpr int kPoints = 3;    // random points per step (majority vote)
-constexpr int kAttempts = 8;  // random starts per point before giving up
+constexpr int kPoints = 3; // points per step (majority vote)
 /// Floating-point operations the dense Jacobians and their minimum-norm
-/// solves may cost in all (rows x cols x min(rows, cols) per Jacobian),
-/// about a second here: a model whose prolongations stay far from their
+/// solves may cost in all (rows x moving cols x the smaller, per
+/// Jacobian), about 2 s of CPU here; Andrews' squeezer, decided, spends
+/// 1.5e9. A model whose prolongations stay far from their
 /// points (a mutated chain that Gauss–Newton never settles) gets no formal
 /// index rather than minutes of retries. Counted, not timed, so the answer
 /// does not depend on the machine.
-constexpr double kWorkBudget = 2e9;
+constexpr double kWorkBudget = 8e9;
 
 /// The model as written: its continuous unknowns (numbered in declaration
 /// order) and the order q of its jet space.
 struct JetSpace {
   std::vector<ir::VarId> unknowns;
   std::vector<int> index; // VarId -> unknown, or -1
+  std::vector<int> top;   // per unknown: its highest order in the model
   int q = 1; // an algebraic model is a DAE of order 1 (docs/indices.md)
 
   explicit JetSpace(const ir::Model &model)
@@ -61,147 +60,97 @@ struct JetSpace {
         index[v] = static_cast<int>(unknowns.size());
         unknowns.push_back(v);
       }
+    top.assign(unknowns.size(), 0);
     for (const ir::Equation &eq : model.equations)
       for (ir::VarKey k : ir::freeVariables(eq.residual))
-        if (k.var < index.size() && index[k.var] >= 0)
-          q = std::max(q, static_cast<int>(k.order));
+        if (k.var < index.size() && index[k.var] >= 0) {
+          int &t = top[static_cast<size_t>(index[k.var])];
+          t = std::max(t, static_cast<int>(k.order));
+          q = std::max(q, t);
+        }
   }
 };
 
-/// The prolonged system: rows d^k Φ_i and their sparse Jacobians over the
-/// jet coordinates, column k*m + j for unknown j at order k (so the
-/// coordinates of order <= q come first).
+/// The prolonged system R_{q+s}: rows d^k Phi_i (k <= s) as the equations
+/// of a ManifoldSampler over the jet coordinates, coordinate k*m + j for
+/// unknown j at order k (so the coordinates of order <= q come first).
 class Prolongation {
 public:
   Prolongation(const ir::Model &model, const JetSpace &jet)
-      : model_(model), jet_(jet), diff_(model.ctx()), q_(jet.q),
+      : jet_(jet), diff_(model.ctx()), q_(jet.q),
         m_(static_cast<int>(jet.unknowns.size())),
-        params_(model.parameterValues()) {
-    for (const ir::Equation &eq : model.equations)
-      addRow(eq.residual);
+        points_(model, diff_, coordinates(jet, 0, jet.q)) {
+    std::vector<ir::ExprRef> defining;
+    for (const ir::Equation &eq : model.equations) {
+      points_.addEquation(eq.residual, 0);
+      last_.push_back(eq.residual);
+      // Below the top order: an equation that computes an unknown
+      // without a start value from the others (`lang = sqrt(...)`).
+      bool low = true;
+      for (ir::VarKey k : ir::freeVariables(eq.residual))
+        low = low && static_cast<int>(k.order) < q_;
+      if (low)
+        defining.push_back(eq.residual);
+    }
+    points_.findAssignments(defining);
   }
 
-  int unknowns() const { return m_; }
   int order() const { return q_; }
-  /// Prolongations so far (s of R_{q+s}).
-  int steps() const { return steps_; }
   int columns() const { return m_ * (q_ + steps_ + 1); }
   int lowColumns() const { return m_ * (q_ + 1); }
-  Eigen::Index rows() const { return static_cast<Eigen::Index>(rows_.size()); }
+  ManifoldSampler &points() { return points_; }
 
-  /// Adds d/dt of the rows of the last step.
+  /// Adds d/dt of the rows of the last step, over the coordinates of the
+  /// next order.
   void prolong() {
-    size_t first = rows_.size() - model_.equations.size();
-    size_t last = rows_.size();
-    for (size_t r = first; r < last; ++r)
-      addRow(diff_.timeDerivative(rows_[r].expr));
     ++steps_;
-  }
-
-  bool residual(double t, const Eigen::VectorXd &x, Eigen::VectorXd &f) const {
-    ir::EvalEnv env = envAt(t, x);
-    f.resize(rows());
-    for (Eigen::Index r = 0; r < rows(); ++r)
-      if (!valueOf(rows_[r].expr, env, f(r)))
-        return false;
-    return true;
-  }
-
-  bool jacobian(double t, const Eigen::VectorXd &x, Eigen::MatrixXd &j) const {
-    ir::EvalEnv env = envAt(t, x);
-    j = Eigen::MatrixXd::Zero(rows(), columns());
-    for (Eigen::Index r = 0; r < rows(); ++r)
-      for (const auto &[col, partial] : rows_[r].partials)
-        if (!valueOf(partial, env, j(r, col)))
-          return false;
-    return true;
-  }
-
-  /// A start for coordinate `col`: the unknown's start value at order 0,
-  /// zero above, each spread by `noise` times its scale.
-  double startValue(int col, double noise) const {
-    const ir::Variable &v = model_.variables[jet_.unknowns[col % m_]];
-    double scale = std::max({1.0, std::abs(v.start), std::abs(v.nominal)});
-    return (col < m_ ? v.start : 0.0) + noise * scale;
+    points_.addCoordinates(coordinates(jet_, q_ + steps_, q_ + steps_));
+    for (ir::ExprRef &row : last_) {
+      row = diff_.timeDerivative(row);
+      // One generation: the hidden equations a prolongation brings read
+      // the coordinates of the steps before, which a projection a
+      // generation at a time would hold.
+      points_.addEquation(row, 0);
+    }
   }
 
 private:
-  struct Row {
-    ir::ExprRef expr;
-    std::vector<std::pair<int, ir::ExprRef>> partials; // column, ∂row/∂col
-  };
-  const ir::Model &model_;
   const JetSpace &jet_;
   ir::Differentiator diff_;
   int q_, m_, steps_ = 0;
-  std::vector<double> params_;
-  std::vector<Row> rows_;
+  ManifoldSampler points_;
+  std::vector<ir::ExprRef> last_; // the rows of the last step
 
-  int column(ir::VarKey k) const {
-    if (k.var >= jet_.index.size() || jet_.index[k.var] < 0)
-      return -1;
-    return static_cast<int>(k.order) * m_ + jet_.index[k.var];
+  static std::vector<ir::VarKey> coordinates(const JetSpace &jet, int from,
+                                             int to) {
+    std::vector<ir::VarKey> keys;
+    for (int k = from; k <= to; ++k)
+      for (ir::VarId v : jet.unknowns)
+        keys.push_back({v, static_cast<unsigned>(k)});
+    return keys;
   }
-
-  void addRow(ir::ExprRef e) {
-    Row row{e, {}};
-    for (ir::VarKey k : ir::freeVariables(e)) {
-      int c = column(k);
-      if (c >= 0)
-        row.partials.emplace_back(c, diff_.partial(e, k));
-    }
-    rows_.push_back(std::move(row));
-  }
-
-  ir::EvalEnv envAt(double t, const Eigen::VectorXd &x) const {
-    ir::EvalEnv env;
-    env.time = t;
-    env.variable = [this, &x](ir::VarKey k) {
-      int c = column(k);
-      if (c >= 0)
-        return c < x.size() ? x[c] : 0.0;
-      // Discrete variables keep their start value between events.
-      if (k.order == 0 && k.var < model_.variables.size())
-        return model_.variables[k.var].start;
-      return 0.0;
-    };
-    env.parameter = [this](ir::ParamId p) {
-      return p < params_.size() ? params_[p] : 0.0;
-    };
-    return env;
-  }
-
-  static bool valueOf(ir::ExprRef e, const ir::EvalEnv &env, double &out) {
-    auto v = ir::evaluate(e, env);
-    if (!v || !std::isfinite(*v))
-      return false;
-    out = *v;
-    return true;
-  }
-};
-
-struct Point {
-  double t = 0;
-  Eigen::VectorXd x;
 };
 
 class FormalIndex {
 public:
   FormalIndex(const ir::Model &model, const JetSpace &jet)
-      : sys_(model, jet), rng_(20261124),
-        t0_(model.experiment.startTime.value_or(0.0)) {}
+      : jet_(jet), sys_(model, jet) {
+    ManifoldSampler &points = sys_.points();
+    points.workBudget = kWorkBudget;
+    points.diagnoseFailures = false;
+    points.acceptable = [](const SamplePoint &p) { return regular(p.x); };
+  }
 
   FormalIndexResult run() {
     FormalIndexResult out;
-    std::vector<Point> points(kPoints);
     std::optional<int> previous;
     // The dimension of J_q bounds the number of strict decreases.
     const int bound = sys_.lowColumns() + 1;
     for (int s = 0; s <= bound; ++s) {
       if (s > 0)
         sys_.prolong();
-      std::optional<int> codim = codimension(points);
-      if (work_ > kWorkBudget) {
+      std::optional<int> codim = codimension();
+      if (sys_.points().exhausted()) {
         out.reason = "gave up after " + std::to_string(s) +
                      " prolongations: finding points on them costs more "
                      "than the work limit";
@@ -213,6 +162,11 @@ public:
                      std::to_string(s) + " times";
         return out;
       }
+      // R_q^(s) lies in R_q^(s-1): a codimension below the last step's
+      // is a rank lost to rounding in the larger Jacobian, not a set
+      // that grew.
+      if (previous)
+        codim = std::max(*codim, *previous);
       out.dimensions.push_back(sys_.lowColumns() - *codim);
       if (previous && *codim == *previous) {
         out.index = s - 1;
@@ -225,33 +179,77 @@ public:
   }
 
 private:
+  const JetSpace &jet_;
   Prolongation sys_;
-  std::mt19937 rng_;
-  double t0_;
-  double work_ = 0; // operations spent (kWorkBudget)
+  std::vector<SamplePoint> points_; // on R_{q+s} for the last s
 
-  /// The Jacobian at (t, x), counting its solve's work; false once the
-  /// budget is spent, which ends every iteration.
-  bool jacobian(double t, const Eigen::VectorXd &x, Eigen::MatrixXd &j) {
-    if (work_ > kWorkBudget || !sys_.jacobian(t, x, j))
+  /// The points of the last step onto R_{q+s}, each on its own (their
+  /// coordinates stay generic: perturbations of one anchor move mostly
+  /// the new, highest coordinates). As initialization solves a mechanism,
+  /// from the most held to the least: the new coordinates alone; the
+  /// coordinates above order q (all a step without a new equation of
+  /// order <= q needs: it may fix a multiplier's second derivative, left
+  /// free before); everything but the state, each unknown below its
+  /// highest order in the model
+  /// (a multiplier's equation moves the multiplier, not the positions
+  /// and velocities it is read with, whose nonlinear terms made all-
+  /// coordinate steps on Andrews' squeezer take 20 to 40 iterations);
+  /// then all coordinates. Each try starts where the one before ended:
+  /// a least-squares fit is a better start than 0 (Andrews' q'' = v',
+  /// some 1e4 rad/s^2, stalled from 0).
+  bool carry(std::vector<SamplePoint> &pts) {
+    ManifoldSampler &points = sys_.points();
+    if (pts.empty())
       return false;
-    work_ += double(j.rows()) * double(j.cols()) *
-             double(std::min(j.rows(), j.cols()));
+    const size_t count = points.equations().size();
+    const size_t n = points.coordinates().size();
+    const Eigen::Index known = pts.front().x.size();
+    std::vector<char> old(n, 0), low(n, 0), state(n, 0);
+    std::fill(old.begin(), old.begin() + known, 1);
+    for (size_t c = 0; c < n; ++c) {
+      ir::VarKey k = points.coordinates()[c];
+      low[c] = static_cast<int>(k.order) <= jet_.q;
+      state[c] = static_cast<int>(k.order) <
+                 jet_.top[static_cast<size_t>(jet_.index[k.var])];
+    }
+    for (SamplePoint &p : pts) {
+      p.x.conservativeResize(static_cast<Eigen::Index>(n));
+      p.x.tail(static_cast<Eigen::Index>(n) - known).setZero();
+      bool on = false;
+      for (const std::vector<char> *held : {&old, &low, &state}) {
+        SamplePoint tried = p;
+        on = points.project(tried, count, held) && points.definedAt(tried);
+        if (tried.x.allFinite())
+          p = std::move(tried);
+        if (on)
+          break;
+      }
+      if (!on && !(points.project(p, count) && points.definedAt(p)))
+        return false;
+    }
     return true;
   }
 
   /// The codimension of R_q^(s) most points agree on (the first point's on
   /// a tie); nullopt when no point of R_{q+s} can be found.
-  std::optional<int> codimension(std::vector<Point> &points) {
+  std::optional<int> codimension() {
+    ManifoldSampler &points = sys_.points();
+    std::vector<SamplePoint> &pts = points_;
+    if (!(carry(pts) || points.samplePoints(pts, kPoints)))
+      return std::nullopt;
+    // The start values may be special (a mechanism at rest: the terms
+    // quadratic in the velocities vanish, and with them singular values
+    // of the prolongations); a sample point is generic, and the anchor
+    // from which the next steps start.
+    points.setAnchorState({pts.front(), points.equations().size(), false});
     std::map<int, int> votes;
     std::optional<int> first;
-    for (Point &p : points) {
-      if (!place(p))
-        return std::nullopt;
+    for (const SamplePoint &p : pts) {
       Eigen::MatrixXd j;
-      if (!jacobian(p.t, p.x, j))
+      if (!points.jacobianAt(p, points.equations().size(), j))
         return std::nullopt;
-      int c = numeric::projectedRank(j, sys_.lowColumns()).projected();
+      auto pr = numeric::projectedRank(j, sys_.lowColumns());
+      int c = pr.projected();
       ++votes[c];
       if (!first)
         first = c;
@@ -263,96 +261,17 @@ private:
     return best;
   }
 
-  /// Gauss–Newton onto R_{q+s} at time t from x. Its minimum-norm steps
-  /// favour the coordinates with the largest coefficients, and a
-  /// capacitor's 1e-6 in front of a derivative lets them move voltages
-  /// into exp() rather than the derivative: when the plain iteration
-  /// fails, the derivatives (every coordinate of order >= 1) are fitted
-  /// first with the order-0 values held, and all coordinates move only
-  /// from there.
-  bool solve(double t, Eigen::VectorXd &x) {
-    numeric::ResidualFn f = [&](const Eigen::VectorXd &y, Eigen::VectorXd &r) {
-      return sys_.residual(t, y, r);
-    };
-    numeric::JacobianFn jac = [&](const Eigen::VectorXd &y,
-                                  Eigen::MatrixXd &j) {
-      return jacobian(t, y, j);
-    };
-    numeric::NewtonOptions opts;
-    opts.tolerance = 1e-11;
-    Eigen::VectorXd plain = x;
-    if (numeric::gaussNewton(f, jac, plain, opts).converged() &&
-        regular(plain)) {
-      x = std::move(plain);
-      return true;
-    }
-    const Eigen::Index m = sys_.unknowns();
-    Eigen::VectorXd held = x.head(m);
-    auto full = [&](const Eigen::VectorXd &tail) {
-      Eigen::VectorXd y(x.size());
-      y << held, tail;
-      return y;
-    };
-    numeric::ResidualFn fTail = [&](const Eigen::VectorXd &tail,
-                                    Eigen::VectorXd &r) {
-      return sys_.residual(t, full(tail), r);
-    };
-    numeric::JacobianFn jTail = [&](const Eigen::VectorXd &tail,
-                                    Eigen::MatrixXd &j) {
-      Eigen::MatrixXd all;
-      if (!jacobian(t, full(tail), all))
-        return false;
-      j = all.rightCols(all.cols() - m);
-      return true;
-    };
-    opts.maxIterations = 10;
-    Eigen::VectorXd tail = x.tail(x.size() - m);
-    if (numeric::gaussNewton(fTail, jTail, tail, opts).status !=
-        numeric::NewtonStatus::EvaluationFailed)
-      x = full(tail);
-    opts.maxIterations = 50;
-    return numeric::gaussNewton(f, jac, x, opts).converged() && regular(x);
-  }
-
   /// Homogeneous equations (Vessiot's y3^2 = y1*y2 with linear ODEs) have
-  /// a cone of solutions whose vertex, all coordinates 0, is where the
-  /// minimum-norm steps lead from a start whose high derivatives are too
-  /// large: a singular point, where the residual test (absolute below 1)
-  /// says nothing about the ranks. Such a point is drawn again.
+  /// a cone of solutions whose vertex, all coordinates 0, is a singular
+  /// point, where the residual test (absolute below 1) says nothing about
+  /// the ranks. Such a point is not a sample point.
   static bool regular(const Eigen::VectorXd &x) {
     return x.size() == 0 || x.cwiseAbs().maxCoeff() > 1e-3;
   }
-
-  /// Brings `p` onto R_{q+s}: from where it was (its new coordinates
-  /// drawn at random), then from fresh random starts ever closer to the
-  /// start values (a spread of half the scale overflows exp(v / 0.026)).
-  bool place(Point &p) {
-    std::normal_distribution<double> noise(0.0, 1.0);
-    std::uniform_real_distribution<double> time(0.1, 0.9);
-    const int n = sys_.columns();
-    double spread = 0.5;
-    for (int attempt = 0; attempt < kAttempts && work_ <= kWorkBudget;
-         ++attempt, spread *= 0.25) {
-      Eigen::Index kept = attempt == 0 ? std::min<Eigen::Index>(p.x.size(), n)
-                                       : 0;
-      if (kept == 0)
-        p.t = t0_ + time(rng_);
-      Eigen::VectorXd x(n);
-      x.head(kept) = p.x.head(kept);
-      for (int c = static_cast<int>(kept); c < n; ++c)
-        x[c] = sys_.startValue(c, spread * noise(rng_));
-      if (solve(p.t, x)) {
-        p.x = std::move(x);
-        return true;
-      }
-    }
-    return false;
-  }
 };
 
-class FormalIndexPass
-    : public TypedPass<FormalIndexPass, Reads<>, Updates<>,
-                       Produces<FormalIndexResult>> {
+class FormalIndexPass : public TypedPass<FormalIndexPass, Reads<>, Updates<>,
+                                         Produces<FormalIndexResult>> {
 public:
   FormalIndexPass() : TypedPass(PassId::FormalIndex) {}
 

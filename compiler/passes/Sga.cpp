@@ -1,10 +1,11 @@
 // The SGA on a flat model (see Sga.h and docs/sga.md). Each step:
 //
-//  1. sample points: an anchor on the constraints found so far (the start
-//     values, the unknowns without one computed from their equations,
-//     projected by Gauss–Newton; later the previous anchor projected),
-//     moved along random tangent directions and in time and projected
-//     back; random points near the start values as the fallback;
+//  1. sample points (ManifoldSampler.h): an anchor on the constraints
+//     found so far (the start values, the unknowns without one computed
+//     from their equations, projected by Gauss–Newton; later the previous
+//     anchor projected), moved along random tangent directions and in
+//     time and projected back; random points near the start values as the
+//     fallback;
 //  2. the rows' A-parts (partial derivatives w.r.t. the columns) and
 //     remainders (the rows at D = 0), symbolically and at every point;
 //  3. the generic rank of A by SVD (the largest rank over the points), and
@@ -23,111 +24,34 @@
 // tangency rows, so a pivot that vanishes on the new, smaller manifold is
 // never kept.
 #include "passes/Sga.h"
+#include "passes/ManifoldSampler.h"
 #include "passes/PassContext.h"
 
 #include "ir/Differentiate.h"
 #include "ir/Evaluate.h"
 #include "ir/Query.h"
 #include "ir/Substitute.h"
-#include "numeric/Newton.h"
 
 #include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <map>
 #include <optional>
-#include <random>
 #include <set>
 
 namespace ldae::passes {
 
 namespace {
 
-constexpr int kPoints = 3;       // sample points per step
-constexpr int kDrawAttempts = 5; // random draws per point (the fallback)
-/// Sample points are the anchor (a point of the manifold reached from the
-/// start values) displaced by this fraction of each slot's scale and
-/// projected back: large enough that ranks there are generic, small
-/// enough that Gauss–Newton comes back. Quartered after a failure.
-constexpr double kPerturbSpread = 0.2;
-constexpr int kPerturbAttempts = 3;
-/// A tangent move is halved (up to kTangentHalvings times) until the
-/// constraints are off by at most kTangentOff of their units there.
-constexpr double kTangentOff = 0.05;
-constexpr int kTangentHalvings = 16;
-/// Steps from the anchor's time to a sample point's when the constraints
-/// depend on time (a continuation: each projection starts close).
-constexpr int kTimeSteps = 4;
-/// Projections that may fail in one run before the SGA gives up as
-/// undecided: each costs at most NewtonOptions::maxIterations steps, so
-/// giving up costs a bounded multiple of one step's work, not seconds of
-/// random draws (Andrews' squeezer spent up to 2.5 s so before it had
-/// anchors).
-constexpr int kFailureBudget = 24;
+constexpr int kPoints = 3;         // sample points per step
 constexpr double kRankTol = 1e-9;  // singular values below count as 0
 constexpr double kZeroTol = 1e-8;  // equilibrated |a_ic| below: vanishes
 constexpr double kHoldTol = 1e-8;  // |phi| / its scale below: holds
 constexpr double kPivotBand = 0.1; // pivots within this of the largest
 
-struct Point {
-  double t = 0;
-  Eigen::VectorXd x; // slots
-};
-
-/// Where each Variable node of the SGA form lives.
-class Layout {
-public:
-  Layout(const ir::Model &m, const SgaForm &f) : model_(m) {
-    for (size_t i = 0; i < f.slots.size(); ++i)
-      slot_[f.slots[i]] = static_cast<int>(i);
-    for (size_t j = 0; j < f.columns.size(); ++j)
-      column_[f.columns[j]] = static_cast<int>(j);
-    params_ = m.parameterValues();
-  }
-  int slot(ir::VarKey k) const {
-    auto it = slot_.find(k);
-    return it == slot_.end() ? -1 : it->second;
-  }
-  int column(ir::VarKey k) const {
-    auto it = column_.find(k);
-    return it == column_.end() ? -1 : it->second;
-  }
-  /// The environment of point p with every column at 0.
-  ir::EvalEnv env(const Point &p) const {
-    ir::EvalEnv e;
-    e.time = p.t;
-    e.variable = [this, &p](ir::VarKey k) {
-      int s = slot(k);
-      if (s >= 0)
-        return p.x[s];
-      // Columns are 0 (remainders); discrete variables keep their start.
-      if (k.order == 0 && k.var < model_.variables.size())
-        return model_.variables[k.var].start;
-      return 0.0;
-    };
-    e.parameter = [this](ir::ParamId q) {
-      return q < params_.size() ? params_[q] : 0.0;
-    };
-    return e;
-  }
-
-private:
-  const ir::Model &model_;
-  std::map<ir::VarKey, int> slot_, column_;
-  std::vector<double> params_;
-};
-
-double valueAt(ir::ExprRef e, const ir::EvalEnv &env, bool &ok) {
-  auto v = ir::evaluate(e, env);
-  if (!v || !std::isfinite(*v)) {
-    ok = false;
-    return 0;
-  }
-  return *v;
-}
+using Point = SamplePoint;
 
 /// Scales the columns of A to largest entry 1, then its rows (and r with
 /// them) likewise, so that "vanishes" and ranks do not depend on units: a
@@ -169,8 +93,7 @@ struct WorkRow {
 class Sga {
 public:
   Sga(PassContext &ctx, const MatchingResult &mr, SgaResult &out)
-      : m_(ctx.model), ex_(m_.ctx()), mr_(mr), out_(out), diff_(ex_),
-        rng_(20261124), t0_(m_.experiment.startTime.value_or(0.0)) {}
+      : m_(ctx.model), ex_(m_.ctx()), mr_(mr), out_(out), diff_(ex_) {}
 
   void run();
 
@@ -180,37 +103,16 @@ private:
   const MatchingResult &mr_;
   SgaResult &out_;
   ir::Differentiator diff_;
-  std::mt19937 rng_;
-  double t0_;
-  std::unique_ptr<Layout> layout_;
-  /// A point of the constraints found so far (of fewer of them, between
-  /// a constraint's addition and the next projection): the sample points
-  /// are its perturbations.
-  std::optional<Point> anchor_;
-  size_t anchorHolds_ = 0; // it meets constraints [0, anchorHolds_)
-  /// The anchor is a random draw: the start values are tried first.
-  bool anchorDrawn_ = false;
-  int failures_ = 0; // failed projections (kFailureBudget)
-  /// An equation of the model that computes an unknown without a start
-  /// value (linear in it, with a coefficient that reads no slot).
-  struct Assignment {
-    ir::ExprRef residual;
-    int slot;
-    double coefficient;
-  };
-  std::vector<Assignment> assignments_;
-  std::vector<char> assigned_; // per slot: computed by an assignment
-  void findAssignments();
-  void assignUnstarted(Point &p);
-  /// The start values at the start time, those left out computed by the
-  /// assignments.
-  Point startPoint();
-  /// Per constraint: the slots it reads and its partial derivatives.
-  std::vector<std::vector<std::pair<int, ir::ExprRef>>> gradients_;
+  std::map<ir::VarKey, int> columns_; // top derivative -> column
+  int column(ir::VarKey k) const {
+    auto it = columns_.find(k);
+    return it == columns_.end() ? -1 : it->second;
+  }
+  /// Sample points on the constraints found so far, whose equations are
+  /// out_.constraints' expressions in the same order.
+  std::unique_ptr<ManifoldSampler> sampler_;
   std::set<int> gaveConstraint_; // rows whose remainder became a constraint
-  /// A projection ended at a least-squares minimum off the constraints.
-  bool stationaryFailure_ = false;
-  bool undecided_ = false; // no point of the constraints could be found
+  bool undecided_ = false;       // no point of the constraints could be found
   /// Remainders that held on the manifold when found: constraints the
   /// others imply (used to name a written-out hidden constraint redundant).
   std::vector<SgaConstraintExpr> implied_;
@@ -219,24 +121,14 @@ private:
   void buildForm();
   /// Points on the constraints: perturbations of the anchor, else (with
   /// `draw`) random draws near the start values.
-  bool samplePoints(std::vector<Point> &pts, bool draw = true);
-  bool findAnchor();
-  bool perturbAnchor(Point &p, int index);
-  bool drawPoint(Point &p, int index);
-  bool definedAt(const Point &p);
-  /// The first `count` constraints' Jacobian w.r.t. the slots at p.
-  bool jacobianAt(const Point &p, size_t count, Eigen::MatrixXd &J);
-  /// Slot scales D, constraint weights and the scaled Jacobian
-  /// W^-1 J D at p (empty when J cannot be evaluated there).
-  void scaling(const Point &p, size_t count, Eigen::VectorXd &D,
-               Eigen::VectorXd &weight, Eigen::MatrixXd &J);
-  /// Onto the first `count` constraints; slots marked in `frozen` stay.
-  bool project(Point &p, size_t count,
-               const std::vector<char> *frozen = nullptr);
-  /// Onto the first `count` constraints a generation at a time, each
-  /// moving only the slots the generations before do not read; a plain
-  /// projection where that fails.
-  bool projectByGeneration(Point &p, size_t count);
+  bool samplePoints(std::vector<Point> &pts, bool draw = true) {
+    return sampler_->samplePoints(pts, kPoints, draw);
+  }
+  /// Keeps the first `count` constraints.
+  void truncateConstraints(size_t count) {
+    out_.constraints.resize(count);
+    sampler_->truncate(count);
+  }
   bool holds(ir::ExprRef phi, const std::vector<Point> &pts, double scale);
   /// One step; false when P_f turned out empty.
   bool step(std::vector<Point> &pts, bool &grew);
@@ -297,412 +189,10 @@ void Sga::buildForm() {
   }
 }
 
-bool Sga::project(Point &p, size_t count, const std::vector<char> *frozen) {
-  if (count == 0)
-    return true;
-  if (failures_ >= kFailureBudget)
-    return false;
-  ir::EvalEnv env = layout_->env(p);
-  Eigen::VectorXd D, weight;
-  Eigen::MatrixXd J0;
-  scaling(p, count, D, weight, J0);
-  numeric::ResidualFn res = [&](const Eigen::VectorXd &y, Eigen::VectorXd &r) {
-    p.x = D.cwiseProduct(y);
-    r.resize(static_cast<Eigen::Index>(count));
-    bool ok = true;
-    for (size_t c = 0; c < count; ++c)
-      r[static_cast<Eigen::Index>(c)] =
-          valueAt(out_.constraints[c].expr, env, ok);
-    r = r.cwiseQuotient(weight);
-    return ok;
-  };
-  numeric::JacobianFn jac = [&](const Eigen::VectorXd &y, Eigen::MatrixXd &J) {
-    p.x = D.cwiseProduct(y);
-    bool ok = jacobianAt(p, count, J);
-    J = weight.cwiseInverse().asDiagonal() * J * D.asDiagonal();
-    // A zero column: the minimum-norm steps leave the slot where it is.
-    for (size_t s = 0; frozen && s < frozen->size(); ++s)
-      if ((*frozen)[s])
-        J.col(static_cast<Eigen::Index>(s)).setZero();
-    return ok;
-  };
-  numeric::NewtonOptions opts;
-  // Round-off in constraints with large terms (a mechanism's forces) keeps
-  // residuals well above 1e-13 of the coordinates.
-  opts.tolerance = 1e-10;
-  opts.maxIterations = 40;
-  opts.backtrack = true;
-  Eigen::VectorXd x = p.x.cwiseQuotient(D);
-  numeric::NewtonResult nr = numeric::gaussNewton(res, jac, x, opts);
-  p.x = D.cwiseProduct(x);
-  if (nr.converged()) {
-    // The test above is relative to the largest coordinate (a spring
-    // force of 2000 N beside angles), looser than holds() judges each
-    // constraint: two more steps, quadratically convergent, close the gap.
-    numeric::NewtonOptions polish = opts;
-    polish.tolerance = 0;
-    polish.maxIterations = 2;
-    Eigen::VectorXd converged = x;
-    if (numeric::gaussNewton(res, jac, x, polish).status ==
-        numeric::NewtonStatus::EvaluationFailed)
-      x = converged;
-    p.x = D.cwiseProduct(x);
-    return true;
-  }
-  // A projection with frozen slots is a cheap first try (its failure
-  // ends early: the residual of a row it cannot move stops decreasing).
-  if (!frozen)
-    ++failures_;
-  // Stuck at a least-squares minimum with a residual left (J^T r = 0):
-  // the constraints conflict there. Otherwise the iteration just failed.
-  Eigen::VectorXd r;
-  Eigen::MatrixXd J;
-  if (res(x, r) && jac(x, J) && r.allFinite() && J.allFinite()) {
-    double g = (J.transpose() * r).norm();
-    if (g <= 1e-8 * std::max(J.norm(), 1e-300) * r.norm())
-      stationaryFailure_ = true;
-  }
-  return false;
-}
-
-// Gauss–Newton and tangent directions work in scaled coordinates x = D y,
-// each slot in units of its size at the point (its nominal value where
-// it is 0), and each constraint in units of its largest term: Andrews'
-// squeezer has moments of inertia of 1e-5 beside forces of 1e3, and its
-// acceleration constraints divide by the former. Unscaled, minimum-norm
-// steps move the tiny unknowns by huge relative amounts and stall,
-// round-off in the large terms reads as a residual left, and a rank
-// decision takes constraints of small units for tangent directions.
-void Sga::scaling(const Point &p, size_t count, Eigen::VectorXd &D,
-                  Eigen::VectorXd &weight, Eigen::MatrixXd &J) {
-  const Eigen::Index ns = p.x.size();
-  D.resize(ns);
-  for (Eigen::Index s = 0; s < ns; ++s) {
-    double nominal = std::abs(
-        m_.variables[out_.form.slots[static_cast<size_t>(s)].var].nominal);
-    const double size = std::abs(p.x[s]);
-    D[s] = assigned_[static_cast<size_t>(s)]
-               ? (size > 1e-8 * nominal ? size : nominal)
-               : std::max(size, nominal);
-    if (!(D[s] > 0) || !std::isfinite(D[s]))
-      D[s] = 1;
-  }
-  weight = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(count));
-  if (!jacobianAt(p, count, J) || !J.allFinite()) {
-    J.resize(0, 0);
-    return;
-  }
-  for (Eigen::Index c = 0; c < J.rows(); ++c) {
-    double w = (J.row(c).cwiseAbs().cwiseProduct(D.transpose())).maxCoeff();
-    weight[c] = w > 1e-300 ? w : 1.0;
-  }
-  J = weight.cwiseInverse().asDiagonal() * J * D.asDiagonal();
-}
-
-// As consistent initialization solves a mechanism: positions from the
-// position constraints, then the velocities (linear) from the velocity
-// constraints with the positions kept, then the multipliers (linear)
-// with both kept. All at once, the minimum-norm steps from a moved
-// 50-link chain converged only linearly (the tensions' constraints nearly
-// singular along the way) and gave up at 1e-6.
-bool Sga::projectByGeneration(Point &p, size_t count) {
-  const Point start = p;
-  std::vector<char> frozen(static_cast<size_t>(p.x.size()), 0);
-  for (size_t done = 0; done < count;) {
-    size_t end = done;
-    while (end < count && out_.constraints[end].generation ==
-                              out_.constraints[done].generation)
-      ++end;
-    // Each constraint of the generation must read a slot that may move.
-    bool movable = true;
-    for (size_t c = done; c < end && movable; ++c) {
-      bool any = false;
-      for (auto [s, g] : gradients_[c])
-        any = any || !frozen[static_cast<size_t>(s)];
-      movable = any;
-    }
-    bool ok = movable &&
-              (done == 0 ? project(p, end, nullptr) : project(p, end, &frozen));
-    if (!ok) {
-      if (done == 0)
-        return false; // a plain projection already
-      p = start;
-      return project(p, count);
-    }
-    for (size_t c = done; c < end; ++c)
-      for (auto [s, g] : gradients_[c])
-        frozen[static_cast<size_t>(s)] = 1;
-    done = end;
-  }
-  return true;
-}
-
-bool Sga::jacobianAt(const Point &p, size_t count, Eigen::MatrixXd &J) {
-  ir::EvalEnv env = layout_->env(p);
-  J.setZero(static_cast<Eigen::Index>(count), p.x.size());
-  bool ok = true;
-  for (size_t c = 0; c < count; ++c)
-    for (auto [s, g] : gradients_[c])
-      J(static_cast<Eigen::Index>(c), s) = valueAt(g, env, ok);
-  return ok;
-}
-
-bool Sga::definedAt(const Point &p) {
-  ir::EvalEnv env = layout_->env(p);
-  bool ok = true;
-  for (const SgaRow &row : out_.rows)
-    valueAt(row.residual, env, ok);
-  return ok;
-}
-
-void Sga::findAssignments() {
-  std::vector<ir::ExprRef> defining;
-  for (const SgaRow &row : out_.rows) {
-    bool algebraic = row.constraint < 0;
-    for (ir::VarKey k : ir::freeVariables(row.residual))
-      algebraic = algebraic && layout_->column(k) < 0;
-    if (algebraic)
-      defining.push_back(row.residual);
-  }
-  // The slots each equation could assign: without a start value, linear
-  // with a coefficient that reads no slot.
-  ir::EvalEnv env = layout_->env(Point{t0_, Eigen::VectorXd()});
-  std::vector<std::vector<Assignment>> options(defining.size());
-  for (size_t e = 0; e < defining.size(); ++e)
-    for (ir::VarKey k : ir::freeVariables(defining[e])) {
-      int s = layout_->slot(k);
-      if (s < 0 || (k.order == 0 && m_.variables[k.var].hasStart))
-        continue;
-      ir::ExprRef c = diff_.partial(defining[e], k);
-      if (!ir::freeVariables(c).empty() || ir::dependsOnTime(c))
-        continue;
-      bool ok = true;
-      double value = valueAt(c, env, ok);
-      if (ok && value != 0)
-        options[e].push_back({defining[e], s, value});
-    }
-  // Equations with one choice claim it first (`cobe = cos(q[1])` claims
-  // cobe before a loop equation linear in cobe could).
-  std::vector<char> &claimed = assigned_;
-  claimed.assign(out_.form.slots.size(), 0);
-  for (int pass = 0; pass < 2; ++pass)
-    for (const std::vector<Assignment> &opts : options) {
-      if (opts.empty() || (pass == 0 && opts.size() > 1))
-        continue;
-      for (const Assignment &a : opts)
-        if (!claimed[static_cast<size_t>(a.slot)]) {
-          claimed[static_cast<size_t>(a.slot)] = 1;
-          assignments_.push_back(a);
-          break;
-        }
-    }
-}
-
-void Sga::assignUnstarted(Point &p) {
-  // Each sweep settles one more level of the equations' dependencies;
-  // an assignment whose inputs are still undefined waits for a later one.
-  for (size_t sweep = 0; sweep <= assignments_.size(); ++sweep) {
-    bool settled = true;
-    ir::EvalEnv env = layout_->env(p);
-    for (const Assignment &a : assignments_) {
-      bool ok = true;
-      double r = valueAt(a.residual, env, ok);
-      if (!ok) {
-        settled = false;
-        continue;
-      }
-      double &x = p.x[a.slot];
-      const double next = x - r / a.coefficient;
-      settled =
-          settled && std::abs(next - x) <= 1e-14 * std::max(1.0, std::abs(x));
-      x = next;
-    }
-    if (settled)
-      return;
-  }
-}
-
-// The start values are where the modeller says the system is: for a
-// mechanism, an assembled configuration that random draws (which scatter
-// every angle) almost never find again. From there (the unknowns without
-// a start value computed from their equations first, as initialization
-// would), or from the point of the previous step (on fewer constraints),
-// Gauss–Newton has little to do.
-Point Sga::startPoint() {
-  const size_t ns = out_.form.slots.size();
-  Point given;
-  given.t = t0_;
-  given.x.resize(static_cast<Eigen::Index>(ns));
-  for (size_t i = 0; i < ns; ++i) {
-    ir::VarKey k = out_.form.slots[i];
-    given.x[static_cast<Eigen::Index>(i)] =
-        k.order == 0 ? m_.variables[k.var].start : 0.0;
-  }
-  assignUnstarted(given);
-  return given;
-}
-
-bool Sga::findAnchor() {
-  const size_t ns = out_.form.slots.size();
-  Point given = startPoint();
-  const size_t count = out_.constraints.size();
-  auto accept = [&](Point &p) {
-    anchor_ = std::move(p);
-    anchorHolds_ = count;
-    anchorDrawn_ = false;
-    return true;
-  };
-  std::vector<Point> starts;
-  if (anchor_ && !anchorDrawn_) {
-    // What the anchor already meets stays, as in initialization: only the
-    // slots the earlier constraints do not read move (the multipliers for
-    // acceleration constraints, the velocities for velocity ones). Moving
-    // everything, the minimum-norm steps bent a 50-link chain to reach
-    // its tensions and did not converge.
-    const size_t held = std::min(anchorHolds_, count);
-    std::vector<char> frozen(ns, 0);
-    for (size_t c = 0; c < held; ++c)
-      for (auto [s, g] : gradients_[c])
-        frozen[static_cast<size_t>(s)] = 1;
-    Point p = *anchor_;
-    if (held > 0 && held < count &&
-        std::find(frozen.begin(), frozen.end(), 0) != frozen.end() &&
-        project(p, count, &frozen) && definedAt(p))
-      return accept(p);
-    starts.push_back(*anchor_);
-  }
-  starts.push_back(std::move(given));
-  for (Point &p : starts)
-    if (project(p, count) && definedAt(p))
-      return accept(p);
-  return false;
-}
-
-/// The anchor displaced along the constraints (a random direction of
-/// their tangent space, in slots scaled by their magnitude or nominal
-/// value, of kPerturbSpread in the largest) and in time, then projected
-/// back. Off the tangent space a mechanism's loop equations pull the point
-/// far (0.2 rad on every angle of Andrews' squeezer, and Gauss–Newton
-/// does not return); along it the step is off the manifold only to second
-/// order. Each point gets its own time, so time-dependent entries are
-/// generic too.
-bool Sga::perturbAnchor(Point &p, int index) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  const Eigen::Index ns = anchor_->x.size();
-  Eigen::VectorXd scale, weight;
-  Eigen::MatrixXd J;
-  scaling(*anchor_, out_.constraints.size(), scale, weight, J);
-  Eigen::MatrixXd tangent = Eigen::MatrixXd::Identity(ns, ns);
-  if (J.rows() > 0 && ns > 0) {
-    Eigen::BDCSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeFullV);
-    const Eigen::VectorXd &sv = svd.singularValues();
-    Eigen::Index rank = 0;
-    while (rank < sv.size() && sv[rank] > kRankTol * sv[0])
-      ++rank;
-    tangent = svd.matrixV().rightCols(ns - rank);
-  }
-  const size_t count = out_.constraints.size();
-  bool timeDependent = false;
-  for (const SgaConstraintExpr &c : out_.constraints)
-    timeDependent = timeDependent || ir::dependsOnTime(c.expr);
-  // How far a point is off the constraints, in the units of each.
-  auto offBy = [&](const Point &q) {
-    ir::EvalEnv env = layout_->env(q);
-    double worst = 0;
-    for (size_t c = 0; c < count; ++c) {
-      bool ok = true;
-      double v = valueAt(out_.constraints[c].expr, env, ok);
-      if (!ok)
-        return std::numeric_limits<double>::infinity();
-      worst =
-          std::max(worst, std::abs(v) / weight[static_cast<Eigen::Index>(c)]);
-    }
-    return worst;
-  };
-  double spread = kPerturbSpread;
-  for (int attempt = 0; attempt < kPerturbAttempts; ++attempt, spread *= 0.25) {
-    p = *anchor_;
-    if (tangent.cols() > 0) {
-      Eigen::VectorXd w(tangent.cols());
-      for (Eigen::Index k = 0; k < w.size(); ++k)
-        w[k] = normal(rng_);
-      Eigen::VectorXd dy = tangent * w;
-      const double largest = dy.cwiseAbs().maxCoeff();
-      // Shorter while the move leaves the manifold by more than
-      // kTangentOff: a 50-link chain's end moves by 20% of its distance
-      // from the origin, six link lengths, along a tangent that holds
-      // to first order only. Judged by one evaluation each, not by
-      // failed projections.
-      double step = largest > 0 ? spread / largest : 0.0;
-      for (int h = 0; h < kTangentHalvings; ++h, step *= 0.5) {
-        p.x = anchor_->x + step * scale.cwiseProduct(dy);
-        if (offBy(p) <= kTangentOff)
-          break;
-      }
-    }
-    if (!projectByGeneration(p, count))
-      continue;
-    // Then along time, in steps that each projection starts close to
-    // (the car axis's road bump, r sin(10 t), turns by at most 2 rad in
-    // each; in one jump Gauss–Newton lost its acceleration constraints).
-    const double t1 = anchor_->t + 0.3 + 0.25 * index + 0.1 * u(rng_);
-    const double from = p.t;
-    bool followed = true;
-    for (int k = 1; timeDependent && k <= kTimeSteps && followed; ++k) {
-      p.t = from + (t1 - from) * k / kTimeSteps;
-      followed = projectByGeneration(p, count);
-    }
-    p.t = t1;
-    if (followed && definedAt(p))
-      return true;
-  }
-  return false;
-}
-
-/// The fallback: a random point near the start values, projected.
-bool Sga::drawPoint(Point &p, int index) {
-  const size_t ns = out_.form.slots.size();
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int attempt = 0; attempt < kDrawAttempts; ++attempt) {
-    p.t = t0_ + 0.3 + 0.25 * index + 0.1 * u(rng_);
-    p.x.resize(static_cast<Eigen::Index>(ns));
-    // Generic points near the start values; closer ones after failures
-    // (a mechanism's constraints from far away may not be reachable).
-    const double spread = 0.8 * std::pow(0.2, attempt);
-    for (size_t i = 0; i < ns; ++i) {
-      ir::VarKey k = out_.form.slots[i];
-      const ir::Variable &var = m_.variables[k.var];
-      double base = k.order == 0 ? var.start : 0.0;
-      double scale = std::max(std::abs(var.nominal), 1e-300);
-      p.x[static_cast<Eigen::Index>(i)] =
-          base + scale * spread * (0.6 * u(rng_) + (u(rng_) > 0 ? 0.4 : -0.4));
-    }
-    if (project(p, out_.constraints.size()) && definedAt(p))
-      return true;
-  }
-  return false;
-}
-
-bool Sga::samplePoints(std::vector<Point> &pts, bool draw) {
-  pts.assign(kPoints, Point{});
-  const bool anchored = findAnchor();
-  for (int s = 0; s < kPoints; ++s)
-    if (!(anchored && perturbAnchor(pts[static_cast<size_t>(s)], s)) &&
-        !(draw && drawPoint(pts[static_cast<size_t>(s)], s)))
-      return false;
-  if (!anchored) {
-    anchor_ = pts.front();
-    anchorHolds_ = out_.constraints.size();
-    anchorDrawn_ = true;
-  }
-  return true;
-}
-
 bool Sga::holds(ir::ExprRef phi, const std::vector<Point> &pts, double scale) {
   for (const Point &p : pts) {
     bool ok = true;
-    double v = valueAt(phi, layout_->env(p), ok);
+    double v = valueAt(phi, sampler_->env(p), ok);
     if (!ok || std::abs(v) > kHoldTol * std::max(scale, 1e-12))
       return false;
   }
@@ -714,13 +204,7 @@ void Sga::addConstraint(ir::ExprRef phi, std::vector<int> sources) {
   c.expr = phi;
   c.sources = std::move(sources);
   c.generation = out_.generations;
-  std::vector<std::pair<int, ir::ExprRef>> grad;
-  for (ir::VarKey k : ir::freeVariables(phi)) {
-    int s = layout_->slot(k);
-    if (s >= 0)
-      grad.emplace_back(s, diff_.partial(phi, k));
-  }
-  gradients_.push_back(std::move(grad));
+  sampler_->addEquation(phi, c.generation);
   SgaRow row;
   row.residual = diff_.timeDerivative(phi);
   row.sources = c.sources;
@@ -743,7 +227,7 @@ std::vector<WorkRow> Sga::evaluateRows(const std::vector<Point> &pts,
     ir::ExprRef res = out_.rows[i].residual;
     w.coef.assign(nc, nullptr);
     for (ir::VarKey k : ir::freeVariables(res)) {
-      int c = layout_->column(k);
+      int c = column(k);
       if (c >= 0)
         w.coef[c] = diff_.partial(res, k);
     }
@@ -754,7 +238,7 @@ std::vector<WorkRow> Sga::evaluateRows(const std::vector<Point> &pts,
                                              static_cast<Eigen::Index>(nc)));
   r.assign(pts.size(), Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nr)));
   for (size_t s = 0; s < pts.size(); ++s) {
-    ir::EvalEnv env = layout_->env(pts[s]);
+    ir::EvalEnv env = sampler_->env(pts[s]);
     for (size_t i = 0; i < nr; ++i) {
       bool ok = true;
       for (size_t c = 0; c < nc; ++c)
@@ -965,10 +449,8 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
       grew = true;
       return;
     }
-    out_.constraints.resize(ncons);
-    gradients_.resize(ncons);
+    truncateConstraints(ncons);
     out_.rows.resize(nrows);
-    anchorHolds_ = std::min(anchorHolds_, ncons);
     const size_t mid = lo + (hi - lo) / 2;
     addChunk(lo, mid);
     addChunk(mid, hi);
@@ -994,9 +476,9 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     }
     addConstraint(rows[i].rem, rows[i].sources);
     gaveConstraint_.insert(i);
-    stationaryFailure_ = false;
+    sampler_->stationaryFailure = false;
     if (!samplePoints(pts)) {
-      if (!stationaryFailure_) {
+      if (!sampler_->stationaryFailure) {
         // No point found, but no proof of a conflict either.
         undecided_ = true;
         return false;
@@ -1011,10 +493,8 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
     if (own.constraint < 0 && rows[i].sources.size() == 1 &&
         constraintRank(pts[0]) < static_cast<int>(out_.constraints.size())) {
       out_.redundant.push_back(own.sources.front());
-      out_.constraints.pop_back();
+      truncateConstraints(out_.constraints.size() - 1);
       out_.rows.pop_back();
-      gradients_.pop_back();
-      anchorHolds_ = std::min(anchorHolds_, out_.constraints.size());
       if (!samplePoints(pts))
         return false;
       continue;
@@ -1029,7 +509,7 @@ int Sga::constraintRank(const Point &p) {
   if (ncons == 0 || ns == 0)
     return 0;
   Eigen::MatrixXd J;
-  jacobianAt(p, ncons, J);
+  sampler_->jacobianAt(p, ncons, J);
   Eigen::VectorXd unused = Eigen::VectorXd::Zero(J.rows());
   equilibrate(J, unused);
   Eigen::BDCSVD<Eigen::MatrixXd> svd(J);
@@ -1048,9 +528,9 @@ int Sga::constraintRank(const Point &p) {
 // still imply it.
 void Sga::findImpliedEquations() {
   const std::vector<SgaConstraintExpr> all = out_.constraints;
-  const auto allGradients = gradients_;
-  const std::optional<Point> anchor = anchor_; // on all of them
-  const size_t anchorHolds = anchorHolds_;
+  const std::vector<SampledEquation> allEquations = sampler_->equations();
+  // The anchor is on all of them.
+  const ManifoldSampler::AnchorState anchor = sampler_->anchorState();
   for (size_t c = 0; c < all.size(); ++c) {
     if (all[c].generation != 0 || all[c].sources.size() != 1)
       continue;
@@ -1059,23 +539,22 @@ void Sga::findImpliedEquations() {
       if (std::binary_search(phi.sources.begin(), phi.sources.end(), e))
         continue;
       out_.constraints.clear();
-      gradients_.clear();
+      sampler_->equations().clear();
       for (size_t k = 0; k < all.size(); ++k)
         if (k != c) {
           out_.constraints.push_back(all[k]);
-          gradients_.push_back(allGradients[k]);
+          sampler_->equations().push_back(allEquations[k]);
         }
       const size_t rowsBefore = out_.rows.size();
       // All but c: the anchor meets them.
-      anchorHolds_ = out_.constraints.size();
+      sampler_->anchorMeetsAll();
       addConstraint(phi.expr, phi.sources);
       out_.rows.resize(rowsBefore);
       std::vector<Point> pts;
       bool implied = samplePoints(pts) && holds(all[c].expr, pts, 1.0);
       out_.constraints = all;
-      gradients_ = allGradients;
-      anchor_ = anchor;
-      anchorHolds_ = anchorHolds;
+      sampler_->equations() = allEquations;
+      sampler_->setAnchorState(anchor);
       if (implied) {
         out_.implied.push_back(e);
         break;
@@ -1142,15 +621,35 @@ void Sga::finish(const std::vector<Point> &pts) {
 void Sga::run() {
   out_.ran = true;
   buildForm();
-  layout_ = std::make_unique<Layout>(m_, out_.form);
+  for (size_t j = 0; j < out_.form.columns.size(); ++j)
+    columns_[out_.form.columns[j]] = static_cast<int>(j);
+  sampler_ = std::make_unique<ManifoldSampler>(m_, diff_, out_.form.slots);
+  // Every row can be evaluated at a sample point (columns at 0).
+  sampler_->acceptable = [this](const Point &p) {
+    ir::EvalEnv env = sampler_->env(p);
+    bool ok = true;
+    for (const SgaRow &row : out_.rows)
+      valueAt(row.residual, env, ok);
+    return ok;
+  };
   for (int e : mr_.equations) {
     SgaRow row;
     row.residual = m_.equations[e].residual;
     row.sources = {e};
     out_.rows.push_back(row);
   }
-  findAssignments();
-  const Point given = startPoint();
+  // The unknowns without a start value are computed from the equations
+  // that read no column (algebraic in the SGA's form).
+  std::vector<ir::ExprRef> defining;
+  for (const SgaRow &row : out_.rows) {
+    bool algebraic = true;
+    for (ir::VarKey k : ir::freeVariables(row.residual))
+      algebraic = algebraic && column(k) < 0;
+    if (algebraic)
+      defining.push_back(row.residual);
+  }
+  sampler_->findAssignments(defining);
+  const Point given = sampler_->startPoint();
   out_.startGuess.assign(given.x.data(), given.x.data() + given.x.size());
   std::vector<Point> pts;
   if (!samplePoints(pts)) {
