@@ -843,7 +843,9 @@ void DummyDerivativesPass::print(PassContext &ctx, ResultStore &results,
           dummies.push_back(name);
       }
     }
-    out << "// state set " << set << ": states " << quotedList(states)
+    out << "// state set " << set << ": states "
+        << (states.empty() && !dc.dynamic.empty() ? "chosen at run time"
+                                                  : quotedList(states))
         << "; dummy derivatives " << quotedList(dummies) << "\n";
   }
   for (size_t b = 0; b < dc.dynamic.size(); ++b) {
