@@ -51,7 +51,8 @@ int chooseStateSet(const std::vector<double> &cond, int current) {
 
 namespace {
 
-/// The names of the candidates `keep` says (states or dummies), joined.
+/// The names of the candidates whose isDummy is `which` (0: the states),
+/// joined.
 std::string namesOf(const ldae_dynamic_set &s, const std::vector<char> &isDummy,
                     char which) {
   std::string out;
