@@ -61,13 +61,21 @@ ManifoldSampler::ManifoldSampler(const ir::Model &model,
 }
 
 int ManifoldSampler::coordinate(ir::VarKey k) const {
-  auto it = index_.find(k);
-  return it == index_.end() ? -1 : it->second;
+  // Every evaluation asks for every variable it reads: a lookup in a
+  // table, not a map (5% of the formal index of Andrews' squeezer).
+  if (k.var >= index_.size() || k.order >= index_[k.var].size())
+    return -1;
+  return index_[k.var][k.order];
 }
 
 void ManifoldSampler::addCoordinates(const std::vector<ir::VarKey> &keys) {
   for (ir::VarKey k : keys) {
-    index_[k] = static_cast<int>(coords_.size());
+    if (k.var >= index_.size())
+      index_.resize(k.var + 1);
+    std::vector<int> &orders = index_[k.var];
+    if (k.order >= orders.size())
+      orders.resize(k.order + 1, -1);
+    orders[k.order] = static_cast<int>(coords_.size());
     coords_.push_back(k);
   }
   assigned_.resize(coords_.size(), 0);

@@ -17,7 +17,6 @@
 
 #include <cstddef>
 #include <functional>
-#include <map>
 #include <optional>
 #include <random>
 #include <utility>
@@ -132,7 +131,7 @@ private:
   const ir::Model &m_;
   ir::Differentiator &diff_;
   std::vector<ir::VarKey> coords_;
-  std::map<ir::VarKey, int> index_;
+  std::vector<std::vector<int>> index_; // [var][order] -> coordinate, -1
   std::vector<double> params_;
   std::vector<SampledEquation> eqs_;
   std::mt19937 rng_;
