@@ -456,6 +456,8 @@ bool ManifoldSampler::findAnchor() {
 bool ManifoldSampler::perturbAnchor(SamplePoint &p, int index) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
+  if (exhausted())
+    return false;
   const SamplePoint &anchor = *anchor_.anchor;
   const Eigen::Index n = anchor.x.size();
   const size_t count = eqs_.size();
@@ -465,6 +467,7 @@ bool ManifoldSampler::perturbAnchor(SamplePoint &p, int index) {
   Eigen::MatrixXd tangent = Eigen::MatrixXd::Identity(n, n);
   if (J.rows() > 0 && n > 0) {
     Eigen::BDCSVD<Eigen::MatrixXd> svd(J, Eigen::ComputeFullV);
+    work_ += double(J.rows()) * double(n) * double(n);
     const Eigen::VectorXd &sv = svd.singularValues();
     Eigen::Index rank = 0;
     while (rank < sv.size() && sv[rank] > kRankTol * sv[0])
@@ -557,8 +560,9 @@ bool ManifoldSampler::samplePoints(std::vector<SamplePoint> &pts, int count,
   pts.assign(static_cast<size_t>(count), SamplePoint{});
   const bool anchored = findAnchor();
   for (int s = 0; s < count; ++s)
-    if (!(anchored && perturbAnchor(pts[static_cast<size_t>(s)], s)) &&
-        !(draw && drawPoint(pts[static_cast<size_t>(s)], s)))
+    if (exhausted() ||
+        (!(anchored && perturbAnchor(pts[static_cast<size_t>(s)], s)) &&
+         !(draw && drawPoint(pts[static_cast<size_t>(s)], s))))
       return false;
   if (!anchored) {
     anchor_.anchor = pts.front();
