@@ -816,8 +816,21 @@ bool DummyDerivativesPass::runOn(PassContext &ctx, const MatchingResult &mr,
   }
   for (size_t j = 0; j < mr.unknowns.size(); ++j) {
     const ir::Variable &v = ctx.model.variables[mr.unknowns[j]];
-    if (v.stateSelect == ir::StateSelect::Always && red.highest[j] > 0 &&
-        out.choices[0][j] <= red.highest[j] && out.choices[0][j] <= 1)
+    // A run-time candidate may well be a state: what the user is told is
+    // that its stateSelect does not take part in the choice.
+    const DynamicBlock *dynamic = nullptr;
+    for (const DynamicBlock &b : out.dynamic)
+      for (const ir::VarKey &k : b.candidates)
+        if (k.var == mr.unknowns[j])
+          dynamic = &b;
+    if (dynamic && (v.stateSelect == ir::StateSelect::Always ||
+                    v.stateSelect == ir::StateSelect::Prefer ||
+                    v.stateSelect == ir::StateSelect::Never))
+      ctx.diags.report(DiagId::WarnStateSelectDynamic, v.loc,
+                       {v.name, ir::stateSelectName(v.stateSelect),
+                        std::to_string(dynamic->candidates.size())});
+    else if (v.stateSelect == ir::StateSelect::Always && red.highest[j] > 0 &&
+             out.choices[0][j] <= red.highest[j] && out.choices[0][j] <= 1)
       ctx.diags.report(DiagId::WarnStateSelectAlways, v.loc, {v.name});
   }
   return true;
