@@ -149,7 +149,7 @@ def main():
         "the polar ODE's own row. Among SciPy's integrators on the polar "
         "ODE only DOP853 comes close (its error estimate combines a 5th- "
         "and a 3rd-order one). At rtol 1e-10 sga meets 1e-6 (ctest "
-        "`model.sga_check`); docs/sga.md discusses it.",
+        "`model.sga_methods` at theta0 = 1.5); docs/runtime.md discusses it.",
     ])
     write_section(os.path.join(ROOT, "docs", "benchmarks.md"),
                   "Pendulum: what rtol 1e-9 buys (issue 14)", section)
