@@ -196,14 +196,21 @@ constexpr double kStabilization = 0.5;
 /// The norm bounds the rates only in units that are commensurate; it is
 /// capped at this many times the spectral radius, which no choice of
 /// units changes. Andrews' squeezer's norm, 4e10, is d v'/d m11 (v' =
-/// M^-1 (f - G^T lambda) against an inertia entry of 1e-6), not a rate:
-/// its spectral radius is 466, and gamma = 2e10 held Adams at 4e-11 s
-/// steps (100,000 of them before t = 4e-6). The pendulum's norm, 32,
-/// stays (its spectral radius at rest at theta0 = 1.5 is 0.83, below the
-/// rates of the swing: the cap must leave room for them; a gamma of 20
-/// times the radius there, 16.7 instead of 16, was 1.54e-6 off at rtol
-/// 1e-9 instead of 1.42e-6). Andrews at rtol 1e-10 is as accurate with a
-/// cap of 10, 40 or 100 and takes 1241, 1449, 1888 steps.
+/// M^-1 (f - G^T lambda) against an inertia entry of 1e-6), not a rate
+/// (its spectral radius at the start is 466): gamma = 2e10 held Adams at
+/// 4e-11 s steps (100,000 of them before t = 4e-6).
+/// The radius is the largest seen, at the start and at every stiffness
+/// check (kStiffnessCheckEvery steps) after it: at rest it says little of
+/// the motion (the pendulum released near horizontal, theta0 = 1.56, has
+/// a small one, and gamma capped by it was 3.1e-5 off at rtol 1e-9
+/// instead of 7e-6). Raising gamma during the run changes the field only
+/// off P_f, by the drift (1e-14) times the change. It costs Andrews
+/// steps (1780, 1648, 2386 at rtol 1e-6, 1e-8, 1e-10 against 641, 880,
+/// 1806 on the start's radius), not accuracy (q 1.9e-7 and 1.7e-11 off
+/// its reference at 1e-8 and 1e-10); 6 x the largest radius took 440,
+/// 760, 1740 steps but was 4.9e-7 and 3.0e-9 off, and moved the
+/// pendulum's gamma below the norm's 16 (its error erratic in gamma:
+/// docs/runtime.md).
 constexpr double kRateCap = 40;
 /// And it restarts from the projected point when the drift's correction
 /// exceeds this many local error tolerances (WRMS norm in CVODE's error
@@ -211,8 +218,9 @@ constexpr double kRateCap = 40;
 /// restarts in 100 s the pendulum was 1.7e-6 off at rtol 1e-10, 1e-7 with
 /// the stabilization and none), so only as a safety net.
 constexpr double kAdamsDriftRestart = 10.0;
-/// How often Adams under `--integrator auto` looks for stiffness, and the
-/// largest model whose df/dy spectrum it computes for that.
+/// How often Adams looks at df/dy's spectrum (for stiffness under
+/// `--integrator auto`, and for the stabilization's radius), and the
+/// largest model whose spectrum it computes.
 constexpr long kStiffnessCheckEvery = 25;
 constexpr int kStiffnessCheckMaxN = 200;
 
@@ -241,6 +249,9 @@ struct CvodeIntegrator::Impl {
   double pendingT = 0;
   bool pendingSwitch = false; // Adams to BDF at the next step
   long stepsSinceCheck = 0;
+  /// The stabilization rate's bounds (kRateCap): ||df/dy|| at the start
+  /// and the largest spectral radius seen.
+  double rateNorm = 0, radiusMax = 0;
 
   void freeSolver() {
     if (mem)
@@ -437,13 +448,21 @@ StepStatus CvodeIntegrator::startOnConstraints(double t, double *y) {
     // (see kStabilization).
     Eigen::MatrixXd J;
     Eigen::VectorXcd lambda;
-    if (linearization(t, y, J, lambda))
-      I.cb.stabilize =
-          kStabilization *
-          std::min(J.cwiseAbs().rowwise().sum().maxCoeff(),
-                   kRateCap * lambda.cwiseAbs().maxCoeff());
+    if (linearization(t, y, J, lambda)) {
+      I.rateNorm = J.cwiseAbs().rowwise().sum().maxCoeff();
+      I.radiusMax = 0;
+      raiseStabilization(lambda);
+    }
   }
   return {};
+}
+
+void CvodeIntegrator::raiseStabilization(const Eigen::VectorXcd &lambda) {
+  Impl &I = *impl_;
+  if (lambda.size() > 0)
+    I.radiusMax = std::max(I.radiusMax, lambda.cwiseAbs().maxCoeff());
+  I.cb.stabilize =
+      kStabilization * std::min(I.rateNorm, kRateCap * I.radiusMax);
 }
 
 StepStatus CvodeIntegrator::completeStart(double) {
@@ -507,6 +526,10 @@ bool CvodeIntegrator::looksStiff() {
   if (ev_.n() > kStiffnessCheckMaxN ||
       !linearization(I.t, N_VGetArrayPointer(I.y), J, lambda))
     return false;
+  if (project_ && I.cb.stabilize > 0)
+    raiseStabilization(lambda);
+  if (!autoChoice_)
+    return false;
   double decay = 0; // the fastest decay rate, max -Re(lambda)
   for (Eigen::Index i = 0; i < lambda.size(); ++i)
     decay = std::max(decay, -lambda[i].real());
@@ -556,7 +579,8 @@ StepStatus CvodeIntegrator::afterAdamsStep(double t) {
       I.pendingT = t;
     }
   }
-  if (autoChoice_ && ++I.stepsSinceCheck >= kStiffnessCheckEvery) {
+  if ((autoChoice_ || project_) &&
+      ++I.stepsSinceCheck >= kStiffnessCheckEvery) {
     I.stepsSinceCheck = 0;
     I.pendingSwitch = looksStiff(); // at the next step, as a restart
   }

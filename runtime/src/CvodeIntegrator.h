@@ -59,7 +59,11 @@ private:
   /// The projection restart and the stiffness check after an Adams step of
   /// a linearly implicit model.
   StepStatus afterAdamsStep(double t);
+  /// Whether Adams looks stiff here (under `auto`; false otherwise), and
+  /// the stabilization rate raised to the spectral radius seen there.
   bool looksStiff();
+  /// gamma from the start's norm and the largest radius seen (kRateCap).
+  void raiseStabilization(const Eigen::VectorXcd &lambda);
   /// df/dy at (t, y) and its eigenvalues (false: not computed).
   bool linearization(double t, const double *y, Eigen::MatrixXd &J,
                      Eigen::VectorXcd &lambda);
