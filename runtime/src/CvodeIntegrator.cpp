@@ -519,7 +519,7 @@ bool CvodeIntegrator::linearization(double t, const double *y,
   return true;
 }
 
-bool CvodeIntegrator::looksStiff() {
+bool CvodeIntegrator::inspectSpectrum() {
   Impl &I = *impl_;
   Eigen::MatrixXd J;
   Eigen::VectorXcd lambda;
@@ -582,7 +582,7 @@ StepStatus CvodeIntegrator::afterAdamsStep(double t) {
   if ((autoChoice_ || project_) &&
       ++I.stepsSinceCheck >= kStiffnessCheckEvery) {
     I.stepsSinceCheck = 0;
-    I.pendingSwitch = looksStiff(); // at the next step, as a restart
+    I.pendingSwitch = inspectSpectrum(); // at the next step, as a restart
   }
   return {};
 }

@@ -59,9 +59,10 @@ private:
   /// The projection restart and the stiffness check after an Adams step of
   /// a linearly implicit model.
   StepStatus afterAdamsStep(double t);
-  /// Whether Adams looks stiff here (under `auto`; false otherwise), and
-  /// the stabilization rate raised to the spectral radius seen there.
-  bool looksStiff();
+  /// The periodic look at df/dy's spectrum during Adams: raises the
+  /// stabilization rate to the radius seen there, and returns whether the
+  /// field looks stiff (under `auto`; false otherwise).
+  bool inspectSpectrum();
   /// gamma from the start's norm and the largest radius seen (kRateCap).
   void raiseStabilization(const Eigen::VectorXcd &lambda);
   /// df/dy at (t, y) and its eigenvalues (false: not computed).
