@@ -19,6 +19,12 @@ namespace {
 constexpr const char *kDomainExamples =
     "(e.g. a division by zero, or sqrt or log of a negative number)";
 
+/// A singular iteration matrix of a system of index one at most.
+constexpr const char *kSingularHint =
+    "the equations named may not determine their unknowns here (a fold, "
+    "where the solution turns back, or a coefficient that vanishes); check "
+    "the parameters and the start values";
+
 struct FailureText {
   const char *what;
   const char *hint;
@@ -33,20 +39,19 @@ FailureText failureText(FailureKind kind) {
   case FailureKind::TooMuchAccuracy:
     return {"the requested accuracy cannot be reached",
             "loosen --rtol and --atol"};
+  // A high index is no cause here: the hints are for a system of index
+  // one at most (every reduced one); describeFailure adds it for a system
+  // handed over as written (--method raw) whose index exceeds one.
   case FailureKind::ErrorTest:
     return {"the error test failed repeatedly with the smallest step",
-            "tighten or loosen --rtol; the model may be high index (try "
-            "--method dd) or have a discontinuity"};
+            "tighten or loosen --rtol; the model may have a discontinuity"};
   case FailureKind::Convergence:
     return {"the Newton iteration failed to converge repeatedly",
-            "the model may be high index (try --method dd); check the start "
-            "values; tighten --rtol"};
+            "check the start values; tighten or loosen --rtol and --atol"};
   case FailureKind::LinearSetup:
-    return {"the iteration matrix is singular",
-            "the model may be high index; try --method dd"};
+    return {"the iteration matrix is singular", kSingularHint};
   case FailureKind::LinearSolve:
-    return {"the linear solve failed",
-            "the model may be high index; try --method dd"};
+    return {"the linear solve failed", kSingularHint};
   case FailureKind::Domain:
     return {"an equation left its domain (e.g. a division by zero, or sqrt "
             "or log of a negative number) and smaller steps did not help",
@@ -345,8 +350,7 @@ std::string describeFailure(const ModelEval &ev, const Integrator &ida,
   msg += fmt::format("\n  hint: {}", text.hint);
   // A system handed over as written whose index exceeds one (--method
   // raw) is the likeliest cause of any failure, whatever its symptom.
-  if (ev.model().algebraic_error_test == 0 &&
-      std::string(text.hint).find("--method dd") == std::string::npos)
+  if (ev.model().algebraic_error_test == 0)
     msg += "; the system is of index above one as written (--method raw): "
            "try --method dd";
   return msg;
