@@ -1,6 +1,7 @@
 // Rank decisions (see Rank.h).
 #include "numeric/Rank.h"
 
+#include <cmath>
 #include <limits>
 
 namespace ldae::numeric {
@@ -23,6 +24,23 @@ SingularRange singularRange(const Eigen::MatrixXd &a) {
     return {};
   Eigen::VectorXd sv = a.jacobiSvd().singularValues();
   return {sv(0), sv(sv.size() - 1)};
+}
+
+SingularRange singularRangeByGram(const Eigen::MatrixXd &a) {
+  if (a.size() == 0)
+    return {};
+  Eigen::MatrixXd gram = a.rows() <= a.cols()
+                             ? Eigen::MatrixXd(a * a.transpose())
+                             : Eigen::MatrixXd(a.transpose() * a);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(gram,
+                                                    Eigen::EigenvaluesOnly);
+  if (es.info() != Eigen::Success)
+    return singularRange(a);
+  const Eigen::VectorXd &ev = es.eigenvalues(); // increasing
+  // A wide matrix's Gram a a^T has the rows' count of eigenvalues, its
+  // smallest the smallest of the a's min(rows, cols) singular values.
+  return {std::sqrt(std::max(ev(ev.size() - 1), 0.0)),
+          std::sqrt(std::max(ev(0), 0.0))};
 }
 
 double conditionNumber(const Eigen::MatrixXd &a) {

@@ -31,6 +31,15 @@ struct SingularRange {
 };
 SingularRange singularRange(const Eigen::MatrixXd &a);
 
+/// The same from the eigenvalues of the smaller Gram matrix (a a^T or
+/// a^T a): 7x cheaper than the SVD at 20 x 21 (14 against 97 us), for the
+/// run-time state selection's every-step conditions. Squaring costs
+/// sigma_min relative accuracy eps * (sigma_max / sigma_min)^2 (1e-4 at a
+/// condition of 1e6, the order of 1 beyond 1e8, where the matrix counts as
+/// singular anyway): enough for the switching thresholds (a condition of 4
+/// and a factor of 2), not for rank decisions.
+SingularRange singularRangeByGram(const Eigen::MatrixXd &a);
+
 /// sigma_max / sigma_min of `a` (infinity when singular or not finite).
 double conditionNumber(const Eigen::MatrixXd &a);
 

@@ -41,7 +41,7 @@ double dummyCondition(const Eigen::MatrixXd &S, const std::vector<int> &dummies,
   Eigen::MatrixXd B(S.rows(), S.rows());
   for (size_t k = 0; k < dummies.size(); ++k)
     B.col(k) = S.col(dummies[k]);
-  double smin = singularRange(B).min;
+  double smin = singularRangeByGram(B).min;
   return smin > 0 && smax > 0 ? smax / smin : inf;
 }
 

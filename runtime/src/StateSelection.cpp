@@ -24,7 +24,7 @@ std::vector<double> pivotConditions(const ModelEval &ev, double t,
       smin[k] = -1; // cannot be evaluated: never prefer it
       continue;
     }
-    numeric::SingularRange sv = numeric::singularRange(M);
+    numeric::SingularRange sv = numeric::singularRangeByGram(M);
     smax = std::max(smax, sv.max);
     smin[k] = sv.min;
   }
@@ -89,7 +89,7 @@ std::vector<DynamicSwitch> reselectDynamicSets(ModelEval &ev, double t,
     std::vector<int> best = numeric::pivotDummies(S);
     if (best.empty() || best == now)
       continue;
-    const double smax = numeric::singularRange(S).max;
+    const double smax = numeric::singularRangeByGram(S).max;
     std::vector<double> cond{numeric::dummyCondition(S, now, smax),
                              numeric::dummyCondition(S, best, smax)};
     if (chooseStateSet(cond, 0) != 1)

@@ -124,6 +124,36 @@ TEST(Rank, ConditionNumber) {
   EXPECT_TRUE(std::isinf(conditionNumber(a)));
 }
 
+// The Gram route against the SVD on a wide, a tall and a square matrix
+// with known singular values (U diag(s) V^T, U and V orthogonal), the
+// square one at a condition of 1e6: sigma_min to eps * 1e12 relative.
+TEST(Rank, SingularRangeByGramMatchesTheSvd) {
+  auto withValues = [](int rows, int cols, const Eigen::VectorXd &s) {
+    MatrixXd u = MatrixXd::Random(rows, rows).householderQr().householderQ();
+    MatrixXd v = MatrixXd::Random(cols, cols).householderQr().householderQ();
+    MatrixXd d = MatrixXd::Zero(rows, cols);
+    for (int i = 0; i < s.size(); ++i)
+      d(i, i) = s(i);
+    return MatrixXd(u * d * v.transpose());
+  };
+  Eigen::VectorXd s6(6), s20(20);
+  s6 << 40, 9, 3, 1, 0.5, 0.25;
+  for (int i = 0; i < 20; ++i)
+    s20(i) = std::pow(10.0, -6.0 * i / 19); // 1 down to 1e-6
+  struct Case {
+    MatrixXd a;
+    double max, min, tol;
+  };
+  for (const Case &c : {Case{withValues(6, 7, s6), 40, 0.25, 1e-12},
+                        Case{withValues(7, 6, s6), 40, 0.25, 1e-12},
+                        Case{withValues(20, 20, s20), 1, 1e-6, 1e-3}}) {
+    SingularRange g = singularRangeByGram(c.a);
+    EXPECT_NEAR(g.max, c.max, 1e-12 * c.max);
+    EXPECT_NEAR(g.min, c.min, c.tol * c.min);
+  }
+  EXPECT_EQ(singularRangeByGram(MatrixXd()).max, 0);
+}
+
 TEST(SparseLu, SolvesAKnownSystem) {
   // [[4, 1, 0], [1, 3, 0], [0, 0, 2]] x = [6, 7, 4]: x = (1, 2, 2).
   CscMatrix a;
