@@ -105,7 +105,10 @@ std::unique_ptr<ir::Model> compileFileId(uint32_t id, const FrontendOptions &opt
     return nullptr;
   }
   Flattener flattener(classes, diags, opts);
-  return flattener.flatten(*cls);
+  std::unique_ptr<ir::Model> model = flattener.flatten(*cls);
+  if (model && !checkDiscreteDerivatives(*model, diags))
+    return nullptr;
+  return model;
 }
 
 } // namespace

@@ -47,6 +47,11 @@ std::unique_ptr<ir::Model> compileSource(const std::string &path,
                                          SourceManager &sources,
                                          DiagnosticEngine &diags);
 
+/// der() of a discrete variable (Integer, Boolean, discrete Real, an event
+/// input or a variable a when-clause assigns): an error at the equation,
+/// with the variable's declaration as a note. Returns false if any.
+bool checkDiscreteDerivatives(const ir::Model &model, DiagnosticEngine &diags);
+
 /// Equation/unknown count check: a warning saying how many of each and
 /// which components they come from (the geometric algorithm gives the
 /// verdict, docs/sga.md). Returns true if balanced.
