@@ -112,6 +112,9 @@ void ManifoldSampler::addEquation(ir::ExprRef phi, int generation) {
     if (c >= 0)
       eq.gradient.emplace_back(c, diff_.partial(phi, k));
   }
+  eq.exprNodes = double(ir::dagSize(phi));
+  for (const auto &[c, g] : eq.gradient)
+    eq.gradientNodes += double(ir::dagSize(g));
   eqs_.push_back(std::move(eq));
 }
 
@@ -250,13 +253,15 @@ bool ManifoldSampler::projectScaled(SamplePoint &p, size_t count,
     place(z);
     r.resize(static_cast<Eigen::Index>(count));
     bool ok = true;
-    for (size_t c = 0; c < count; ++c)
+    for (size_t c = 0; c < count; ++c) {
       r[static_cast<Eigen::Index>(c)] = valueAt(eqs_[c].expr, e, ok);
+      evaluations_ += eqs_[c].exprNodes;
+    }
     r = r.cwiseQuotient(weight);
     return ok;
   };
   numeric::JacobianFn jac = [&](const Eigen::VectorXd &z, Eigen::MatrixXd &J) {
-    if (workBudget > 0 && work_ > workBudget)
+    if (exhausted())
       return false;
     place(z);
     Eigen::MatrixXd all;
@@ -395,9 +400,11 @@ bool ManifoldSampler::jacobianAt(const SamplePoint &p, size_t count,
   ir::EvalEnv e = env(p);
   J.setZero(static_cast<Eigen::Index>(count), p.x.size());
   bool ok = true;
-  for (size_t c = 0; c < count; ++c)
+  for (size_t c = 0; c < count; ++c) {
     for (auto [s, g] : eqs_[c].gradient)
       J(static_cast<Eigen::Index>(c), s) = valueAt(g, e, ok);
+    evaluations_ += eqs_[c].gradientNodes;
+  }
   return ok;
 }
 

@@ -41,6 +41,9 @@ struct SampledEquation {
   /// then velocities with the positions kept, and so on.
   int generation = 0;
   std::vector<std::pair<int, ir::ExprRef>> gradient;
+  /// Nodes an evaluation of expr, and of the whole gradient, visits (each
+  /// entry is evaluated on its own): what the budget counts.
+  double exprNodes = 0, gradientNodes = 0;
 };
 
 class ManifoldSampler {
@@ -118,8 +121,16 @@ public:
   /// timed, so the answer does not depend on the machine.
   double workBudget = 0;
   double work() const { return work_; }
+  /// Expression nodes the projections may evaluate in all (residuals and
+  /// Jacobian entries); 0: unlimited. Differentiation can make the
+  /// equations of a later generation huge (a mutated Andrews' squeezer's
+  /// gradients ran for minutes): this bounds that, counted likewise.
+  double evaluationBudget = 0;
+  double evaluations() const { return evaluations_; }
   bool exhausted() const {
-    return failures_ >= failureBudget || (workBudget > 0 && work_ > workBudget);
+    return failures_ >= failureBudget ||
+           (workBudget > 0 && work_ > workBudget) ||
+           (evaluationBudget > 0 && evaluations_ > evaluationBudget);
   }
   /// A projection ended at a least-squares minimum off the equations
   /// since the last reset (the equations conflict there).
@@ -139,6 +150,7 @@ private:
   AnchorState anchor_;
   int failures_ = 0;
   double work_ = 0;
+  double evaluations_ = 0;
   struct Assignment {
     ir::ExprRef residual;
     int coordinate;

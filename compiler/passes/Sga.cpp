@@ -33,6 +33,7 @@
 #include "ir/Substitute.h"
 
 #include <Eigen/SVD>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
@@ -49,6 +50,7 @@ constexpr int kPoints = 3;         // sample points per step
 constexpr double kRankTol = 1e-9;  // singular values below count as 0
 constexpr double kZeroTol = 1e-8;  // equilibrated |a_ic| below: vanishes
 constexpr double kHoldTol = 1e-8;  // |phi| / its scale below: holds
+constexpr double kMinEvaluationBudget = 1e6; // small models: ample
 constexpr double kPivotBand = 0.1; // pivots within this of the largest
 
 using Point = SamplePoint;
@@ -113,6 +115,15 @@ private:
   std::unique_ptr<ManifoldSampler> sampler_;
   std::set<int> gaveConstraint_; // rows whose remainder became a constraint
   bool undecided_ = false;       // no point of the constraints could be found
+  bool overBudget() const {
+    return sampler_->evaluations() > sampler_->evaluationBudget;
+  }
+  std::string budgetReason() const {
+    return fmt::format("its constraints grew too large to evaluate: the "
+                       "projections reached their budget of {:.2g} "
+                       "expression nodes ({} equations)",
+                       sampler_->evaluationBudget, mr_.equations.size());
+  }
   /// Remainders that held on the manifold when found: constraints the
   /// others imply (used to name a written-out hidden constraint redundant).
   std::vector<SgaConstraintExpr> implied_;
@@ -624,6 +635,15 @@ void Sga::run() {
   for (size_t j = 0; j < out_.form.columns.size(); ++j)
     columns_[out_.form.columns[j]] = static_cast<int>(j);
   sampler_ = std::make_unique<ManifoldSampler>(m_, diff_, out_.form.slots);
+  {
+    // Expression nodes its projections may evaluate: 1000 n^2 for n
+    // equations, 24x what Andrews' squeezer needs (2.5e5 for 77) and 87x
+    // the 50-link chain's (7.2e5 for 250). A model whose constraints grow
+    // by differentiation beyond that (Andrews with one der(der(v[5])):
+    // minutes, 0.7 s now) is left undecided, as one with no point found.
+    const double n = double(mr_.equations.size());
+    sampler_->evaluationBudget = std::max(kMinEvaluationBudget, 1000 * n * n);
+  }
   // Every row can be evaluated at a sample point (columns at 0).
   sampler_->acceptable = [this](const Point &p) {
     ir::EvalEnv env = sampler_->env(p);
@@ -654,7 +674,9 @@ void Sga::run() {
   std::vector<Point> pts;
   if (!samplePoints(pts)) {
     out_.ran = false;
-    out_.skipped = "no point where every equation is defined was found";
+    out_.skipped = overBudget() ? budgetReason()
+                                : "no point where every equation is defined "
+                                  "was found";
     return;
   }
   const size_t maxSteps = out_.form.slots.size() + 2;
@@ -664,8 +686,11 @@ void Sga::run() {
     if (!step(pts, grew)) {
       if (undecided_) {
         out_.ran = false;
-        out_.skipped = "no point satisfying the constraints was found from "
-                       "the start values (Gauss-Newton did not converge)";
+        out_.skipped = overBudget()
+                           ? budgetReason()
+                           : "no point satisfying the constraints was found "
+                             "from the start values (Gauss-Newton did not "
+                             "converge)";
         return;
       }
       out_.outcome = SgaReport::Outcome::NoSolution;
