@@ -1,5 +1,8 @@
-"""Andrews' squeezing mechanism and the car axis (Bari Test Set for IVP
-Solvers) in their index-reduced ODE form, for SciPy's BDF.
+"""Problems of the Bari Test Set for IVP Solvers in an ODE form for SciPy's
+BDF: Andrews' squeezing mechanism and the car axis (index 3, reduced as
+below), HIRES (an ODE as it is), the Chemical Akzo Nobel problem (index 1:
+its algebraic y6 substituted) and the transistor amplifier (index 1: see
+transamp_solve).
 
 The positions q and velocities v are the ODE's unknowns; at every
 right-hand side call the accelerations a and multipliers lambda come from
@@ -197,3 +200,119 @@ def caraxis_constraint(t, y):
     xl, yl, xr, yr = y[:4]
     yb_, _, _, xb_, _, _ = road(t)
     return max(abs(xb_*xl + yb_*yl), abs((xl - xr)**2 + (yl - yr)**2 - L*L))
+
+
+# ----------------------------------------------------------------- hires
+def hires_rhs(t, y):
+    y1, y2, y3, y4, y5, y6, y7, y8 = y
+    return [-1.71*y1 + 0.43*y2 + 8.32*y3 + 0.0007,
+            1.71*y1 - 8.75*y2,
+            -10.03*y3 + 0.43*y4 + 0.035*y5,
+            8.32*y2 + 1.71*y3 - 1.12*y4,
+            -1.745*y5 + 0.43*y6 + 0.43*y7,
+            -280*y6*y8 + 0.69*y4 + 1.71*y5 - 0.43*y6 + 0.69*y7,
+            280*y6*y8 - 1.81*y7,
+            -280*y6*y8 + 1.81*y7]
+
+
+def hires_y0():
+    return np.array([1, 0, 0, 0, 0, 0, 0, 0.0057])
+
+
+# -------------------------------------------------------------- chemakzo
+AK1, AK2, AK3, AK4, AKBIG, KLA, KS, PCO2, HEN = (
+    18.7, 0.58, 0.09, 0.42, 34.4, 3.3, 115.83, 0.9, 737.0)
+
+
+def chemakzo_rhs(t, y):
+    """The five differential species; y6 = Ks y1 y4 (the equilibrium)."""
+    y1, y2, y3, y4, y5 = y
+    y6 = KS*y1*y4
+    root = math.sqrt(y2)  # the test set's f fails for y2 < 0 as well
+    r1 = AK1*y1**4*root
+    r2 = AK2*y3*y4
+    r3 = AK2/AKBIG*y1*y5
+    r4 = AK3*y1*y4**2
+    r5 = AK4*y6**2*root
+    fin = KLA*(PCO2/HEN - y2)
+    return [-2*r1 + r2 - r3 - r4, -0.5*r1 - r4 - 0.5*r5 + fin,
+            r1 - r2 + r3, -r2 + r3 - 2*r4, r2 - r3 + r5]
+
+
+def chemakzo_y0():
+    return np.array([0.444, 0.00123, 0.0, 0.007, 0.0])
+
+
+def chemakzo_full(y):
+    return list(y) + [KS*y[0]*y[3]]
+
+
+# -------------------------------------------------------------- transamp
+UB, UF, ALPHA, BETA, R0T, RK = 6.0, 0.026, 0.99, 1e-6, 1000.0, 9000.0
+CK = [1e-6, 2e-6, 3e-6, 4e-6, 5e-6]
+
+
+def emitter(x):
+    return BETA*(math.exp(x/UF) - 1)
+
+
+def decreasing_root(h, dh, guess):
+    """The root of a strictly decreasing h by Newton from guess, to
+    round-off (a node voltage of order 1)."""
+    x = guess
+    for _ in range(100):
+        step = h(x)/dh(x)
+        x -= step
+        if abs(step) <= 1e-15*max(1.0, abs(x)):
+            return x
+    raise RuntimeError("transamp: no node voltage found")
+
+
+def transamp_solve(t, s):
+    """The 8 node voltages from the 5 states s = (U1 - U2, U3, U4 - U5,
+    U6, U7 - U8): the three floating capacitors' current balances (the
+    sums of their two nodes' rows, 0 = f1 + f2, f4 + f5, f7 + f8) fix each
+    pair's common mode; each balance is strictly decreasing in it."""
+    s1, u3, s2, u6, s3 = s
+    ue = 0.1*math.sin(200*math.pi*t)
+    slope = 1/UF
+
+    def h2(u2):
+        return ((ue - u2 - s1)/R0T + (UB - u2)/RK - u2/RK
+                - (1 - ALPHA)*emitter(u2 - u3))
+
+    def dh2(u2):
+        return (-1/R0T - 2/RK
+                - (1 - ALPHA)*BETA*slope*math.exp((u2 - u3)/UF))
+
+    u2 = decreasing_root(h2, dh2, u3)
+    ie1 = emitter(u2 - u3)
+
+    def h5(u5):
+        return ((UB - u5 - s2)/RK - ALPHA*ie1 + (UB - u5)/RK - u5/RK
+                - (1 - ALPHA)*emitter(u5 - u6))
+
+    def dh5(u5):
+        return -3/RK - (1 - ALPHA)*BETA*slope*math.exp((u5 - u6)/UF)
+
+    u5 = decreasing_root(h5, dh5, u6)
+    ie2 = emitter(u5 - u6)
+    u8 = ((UB - s3)/RK - ALPHA*ie2)/(2/RK)
+    return [u2 + s1, u2, u3, u5 + s2, u5, u6, u8 + s3, u8], ue, ie1, ie2
+
+
+def transamp_rhs(t, s):
+    u, ue, ie1, ie2 = transamp_solve(t, s)
+    return [(ue - u[0])/R0T/CK[0],
+            (ie1 - u[2]/RK)/CK[1],
+            ((UB - u[3])/RK - ALPHA*ie1)/CK[2],
+            (ie2 - u[5]/RK)/CK[3],
+            ((UB - u[6])/RK - ALPHA*ie2)/CK[4]]
+
+
+def transamp_y0():
+    return np.array([-3.0, 3.0, 3.0, 3.0, 6.0])
+
+
+def transamp_full(t, s):
+    return transamp_solve(t, s)[0]

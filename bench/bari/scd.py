@@ -1,14 +1,18 @@
 #!/usr/bin/python3
-"""Significant correct digits (scd) on Andrews' squeezing mechanism and the
-car axis (Bari Test Set for IVP Solvers), SciPy's BDF on the index-reduced
-ODE form (bench/bari/problems.py) against ldaec on the index-3 models
-(tests/models/andrews.lsd, tests/models/car_axis.lsd), both at
-rtol = atol = 1e-6, 1e-8, 1e-10.
+"""Significant correct digits (scd) on problems of the Bari Test Set for IVP
+Solvers: SciPy's BDF on an ODE form of each (bench/bari/problems.py)
+against ldaec on the models as their users write them: Andrews' squeezing
+mechanism and the car axis (index 3: tests/models/andrews.lsd,
+car_axis.lsd), HIRES (tests/models/hires.lsd), the Chemical Akzo Nobel
+problem (index 1: tests/models/chemakzo.lsd) and the transistor amplifier
+(index 1 with a singular capacitor matrix: tests/models/sga/transamp.lsd),
+all at rtol = atol = 1e-6, 1e-8, 1e-10.
 
 scd = -log10(max relative error at the end time) over the components the
-test set's getscd uses: andrews the 7 positions, caraxis all 10 components
-(positions, velocities, multipliers); the car axis' positions-only scd is
-reported too. Reference solutions: bench/bari/reference.json.
+test set's getscd uses: andrews the 7 positions, every other problem all
+of its components (caraxis: positions, velocities, multipliers, its
+positions-only scd reported too). Reference solutions:
+bench/bari/reference.json.
 
 Usage: scd.py [--ldaec PATH] [--json] [--doc]
   --json   writes bench/bari/scipy_bdf.json (SciPy's scd per problem and
@@ -51,21 +55,35 @@ def scd(values, ref, ncomp):
     return -math.log10(max(err, 1e-16))
 
 
+# name: (rhs(t, y), y0, t_end, the compared components from (t, y at the
+# end), how many of them are positions (reported apart), or None)
+SCIPY_FORMS = {
+    "andrews": (lambda t, y: problems.andrews_rhs(t, y),
+                problems.andrews_y0, 0.03,
+                lambda t, y: problems.andrews_full(y), 7),
+    "caraxis": (problems.caraxis_rhs, problems.caraxis_y0, 3.0,
+                problems.caraxis_full, 4),
+    "hires": (problems.hires_rhs, problems.hires_y0, 321.8122,
+              lambda t, y: list(y), None),
+    "chemakzo": (problems.chemakzo_rhs, problems.chemakzo_y0, 180.0,
+                 lambda t, y: problems.chemakzo_full(y), None),
+    "transamp": (problems.transamp_rhs, problems.transamp_y0, 0.2,
+                 problems.transamp_full, None),
+}
+# Positions-only scd is reported for the mechanisms whose scd is not it.
+POSITIONS_REPORTED = ("caraxis",)
+
+
 def run_scipy(name, tol):
     """(full end vector, seconds, steps) of BDF on the ODE form."""
-    if name == "andrews":
-        rhs, y0, t_end = problems.andrews_rhs, problems.andrews_y0(), 0.03
-    else:
-        rhs, y0, t_end = problems.caraxis_rhs, problems.caraxis_y0(), 3.0
+    rhs, y0, t_end, full, _ = SCIPY_FORMS[name]
     start = time.perf_counter()
-    sol = solve_ivp(rhs, (0.0, t_end), y0, method="BDF", rtol=tol, atol=tol)
+    sol = solve_ivp(rhs, (0.0, t_end), y0(), method="BDF", rtol=tol,
+                    atol=tol)
     seconds = time.perf_counter() - start
     if not sol.success:
         raise RuntimeError("%s at tol %g: %s" % (name, tol, sol.message))
-    y = sol.y[:, -1]
-    full = (problems.andrews_full(y) if name == "andrews"
-            else problems.caraxis_full(t_end, y))
-    return full, seconds, len(sol.t) - 1
+    return full(t_end, sol.y[:, -1]), seconds, len(sol.t) - 1
 
 
 def run_ldaec(ldaec, problem, tol):
@@ -96,10 +114,10 @@ def run_ldaec(ldaec, problem, tol):
 def measure(ldaec):
     refs = load_reference()
     rows = []
-    for name in ("andrews", "caraxis"):
+    for name in SCIPY_FORMS:
         problem = refs[name]
         ref, ncomp = problem["reference"], problem["scd_components"]
-        npos = 7 if name == "andrews" else 4
+        npos = SCIPY_FORMS[name][4] or ncomp
         for tol in TOLS:
             full, secs, steps = run_scipy(name, tol)
             row = {"problem": name, "tol": tol,
@@ -131,12 +149,12 @@ def table(rows):
     for r in rows:
         if "ldaec_scd" in r:
             ours = "%.2f" % r["ldaec_scd"]
-            if r["problem"] == "caraxis":
+            if r["problem"] in POSITIONS_REPORTED:
                 ours += " (positions %.2f)" % r["ldaec_pos_scd"]
         else:
             ours = "fails: %s" % r.get("ldaec_error", "not run")
         theirs = "%.2f" % r["scipy_scd"]
-        if r["problem"] == "caraxis":
+        if r["problem"] in POSITIONS_REPORTED:
             theirs += " (positions %.2f)" % r["scipy_pos_scd"]
         secs = "-"
         if "ldaec_seconds" in r:
@@ -172,8 +190,8 @@ def main():
     rows = measure(args.ldaec)
     print(table(rows))
     if args.json:
-        data = {"_made_by": "bench/bari/scd.py --json (SciPy %s, BDF on the "
-                "index-reduced ODE form)" % __import__("scipy").__version__,
+        data = {"_made_by": "bench/bari/scd.py --json (SciPy %s, BDF on an "
+                "ODE form, bench/bari/problems.py)" % __import__("scipy").__version__,
                 "scd": {}}
         for r in rows:
             data["scd"].setdefault(r["problem"], {})[repr(r["tol"])] = round(

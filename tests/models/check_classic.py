@@ -4,10 +4,16 @@ wrote, each against what its source publishes. Standard library only.
 
 Usage: check_classic.py LDAEC CASE
 Cases:
-  bari-scd      Andrews' squeezing mechanism and the car axis (Bari Test
-                Set, index 3): significant correct digits at the end time
-                at least SciPy BDF's on the index-reduced ODE form, less
-                0.5 (bench/bari/scipy_bdf.json, made by bench/bari/scd.py)
+  bari-scd      five problems of the Bari Test Set at rtol = atol = 1e-6,
+                1e-8, 1e-10, significant correct digits (scd) at the end
+                time against the published reference: Andrews' squeezing
+                mechanism and the car axis (index 3) and the Chemical Akzo
+                Nobel problem (index 1) at least SciPy BDF's on an ODE
+                form, less 0.5 (bench/bari/scipy_bdf.json, made by
+                bench/bari/scd.py); HIRES and the transistor amplifier,
+                where SciPy's BDF on its own ODE form does better (by 0.6
+                at 1e-8, by 2.0 at 1e-6: docs/validation.md), a global
+                error within 1e4 tol (scd >= -log10(tol) - 4)
   slider-crank  SUNDIALS' idaSlCrank_dns in index-3 form: its printed
                 q, x, p at t = 0, 0.25, ..., 10 (idaSlCrank_dns.out) at
                 the example's tolerance, and an independent reference
@@ -46,12 +52,17 @@ def scd(values, ref, ncomp):
     return -math.log10(max(err, 1e-16))
 
 
+# Problems held to a global error within 1e4 tol rather than to SciPy's
+# BDF, which does better on its own ODE forms of them (docs/validation.md).
+TOLERANCE_FLOOR = ("hires", "transamp")
+
+
 def bari_scd(ldaec):
     with open(os.path.join(BARI, "reference.json")) as f:
         refs = json.load(f)
     with open(os.path.join(BARI, "scipy_bdf.json")) as f:
         bdf = json.load(f)["scd"]
-    for name in ("andrews", "caraxis"):
+    for name in ("andrews", "caraxis", "chemakzo", "hires", "transamp"):
         prob = refs[name]
         for tol in (1e-6, 1e-8, 1e-10):
             _, rows, _ = run(ldaec, [
@@ -63,6 +74,11 @@ def bari_scd(ldaec):
                   "%s: the last row is at t = %g" % (name, prob["t_end"]))
             got = scd([last[n] for n in prob["names"]], prob["reference"],
                       prob["scd_components"])
+            if name in TOLERANCE_FLOOR:
+                want = -math.log10(tol) - 4
+                check(got >= want, "%s at rtol = atol = %g: scd %.2f >= "
+                      "-log10(tol) - 4 = %.2f" % (name, tol, got, want))
+                continue
             want = bdf[name][repr(tol)]
             check(got >= want - 0.5, "%s at rtol = atol = %g: scd %.2f >= "
                   "SciPy BDF's %.2f - 0.5" % (name, tol, got, want))
