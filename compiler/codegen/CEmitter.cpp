@@ -649,7 +649,9 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << fnRef(plan.testedJacobianCsc) << ",\n"
      << events << ",\n"
      << results << ",\n"
-     << bindings << ",\n  " << dynamic << "};\n\n"
+     << bindings << ",\n  " << dynamic << ",\n  " << plan.nWritten << ", "
+     << fnRef(plan.writtenResidual) << ", " << fnRef(plan.writtenJacobian)
+     << "};\n\n"
      << "const ldae_model *ldae_get_model(void) { return &ldae_model_" << s
      << "; }\n";
   if (withMain)

@@ -843,19 +843,24 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
       valuesFunction("init_residual", sys.initialResiduals, keys);
   std::vector<JacEntry> initEntries =
       jacobianEntries(sys, sys.initialResiduals, keys, diff);
+  // dF/dy and dF/dy' of `m` rows, both dense column-major m x n.
+  auto denseParts = [&](std::string name, unsigned m,
+                        const std::vector<JacEntry> &entries) {
+    return addFunction(std::move(name), FnSig::InitJacobian, keys,
+                       [&](FunctionBuilder &b, PlanFunction &fn) {
+                         fn.zeroFill[0] = fn.zeroFill[1] = m * n;
+                         for (const JacEntry &e : entries) {
+                           if (e.dy)
+                             b.store(b.lower(e.dy), 0, e.col * m + e.row,
+                                     e.row);
+                           if (e.dyp)
+                             b.store(b.lower(e.dyp), 1, e.col * m + e.row,
+                                     e.row);
+                         }
+                       });
+  };
   if (useDenseJacobian(n))
-    plan.initJacobian = addFunction(
-        "init_jacobian", FnSig::InitJacobian, keys,
-        [&](FunctionBuilder &b, PlanFunction &fn) {
-          unsigned m = plan.nInit;
-          fn.zeroFill[0] = fn.zeroFill[1] = m * n;
-          for (const JacEntry &e : initEntries) {
-            if (e.dy)
-              b.store(b.lower(e.dy), 0, e.col * m + e.row, e.row);
-            if (e.dyp)
-              b.store(b.lower(e.dyp), 1, e.col * m + e.row, e.row);
-          }
-        });
+    plan.initJacobian = denseParts("init_jacobian", plan.nInit, initEntries);
   // The sparse form: one pattern for both parts (an entry absent from one
   // of them is stored as 0 there by the zero fill).
   cscPattern(initEntries, n, plan.initColptr, plan.initRowind);
@@ -871,6 +876,16 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
             b.store(b.lower(e.dyp), 1, k, e.row);
         }
       });
+  if (!sys.writtenResiduals.empty()) {
+    // Evaluated at events only: dense whatever the size (the jump rule's
+    // Wong sequences are dense too).
+    plan.nWritten = sys.writtenResiduals.size();
+    plan.writtenResidual =
+        valuesFunction("written_residual", sys.writtenResiduals, keys);
+    plan.writtenJacobian = denseParts(
+        "written_jacobian", plan.nWritten,
+        jacobianEntries(sys, sys.writtenResiduals, keys, diff));
+  }
   plan.nRoots = sys.roots.size();
   plan.roots = valuesFunction("roots", sys.roots, keys);
   std::vector<ExprRef> outs;

@@ -183,6 +183,10 @@ struct CodePlan {
   unsigned selectionCount = 0;
   int initResidual = -1, initJacobian = -1, roots = -1, outputs = -1,
       drift = -1;
+  /// The model as written (ldae_model::written_residual, the geometric
+  /// methods with events): its rows and dense Jacobian parts.
+  int writtenResidual = -1, writtenJacobian = -1;
+  unsigned nWritten = 0;
   /// dG/dy and dG/dy' of the initial equations in one CSC pattern.
   int initJacobianCsc = -1;
   std::vector<int> initColptr, initRowind;

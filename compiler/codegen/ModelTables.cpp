@@ -170,6 +170,7 @@ ModelTables::ModelTables(const CodePlan &plan) {
   m.n_dynamic_sets = static_cast<int>(dynamic_.size());
   m.dynamic_sets = dynamic_.empty() ? nullptr : dynamic_.data();
   m.n_selection = static_cast<int>(plan.selectionCount);
+  m.n_written = static_cast<int>(plan.nWritten);
   setEventTables(plan.events);
   setBindingTables(plan);
   setResultTables(plan);
@@ -205,6 +206,8 @@ void ModelTables::setFunctions(const CodePlan &plan,
   fn(plan.initResidual, model_.init_residual);
   fn(plan.initJacobian, model_.init_jacobian);
   fn(plan.initJacobianCsc, model_.init_jacobian_csc);
+  fn(plan.writtenResidual, model_.written_residual);
+  fn(plan.writtenJacobian, model_.written_jacobian);
   fn(plan.roots, model_.roots);
   fn(plan.outputs, model_.outputs);
   fn(plan.drift, model_.drift);

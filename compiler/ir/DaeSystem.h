@@ -164,6 +164,10 @@ struct DaeSystem {
   /// Conditions that must hold only at the start (initial equations),
   /// over y and y'.
   std::vector<ExprRef> initialResiduals;
+  /// The geometric methods' system only (ldae_model::written_residual):
+  /// the model's equations as written and the link rows, over the same
+  /// unknowns, whose pencil an event re-initializes along. Empty otherwise.
+  std::vector<ExprRef> writtenResiduals;
   /// Constraints of the original model the reduced one must keep
   /// (their largest residual is reported as drift).
   std::vector<ExprRef> constraints;

@@ -88,6 +88,7 @@ bool buildSgaSystem(PassContext &pc, const SgaResult &sga, bool project,
       st.residuals.push_back(ctx.sub(ctx.var(keys[k].var, keys[k].order + 1),
                                      ctx.var(keys[k + 1])));
       sys.residualLocs.push_back(var.loc);
+      sys.writtenResiduals.push_back(st.residuals.back());
     }
   }
   for (int r : sga.pivotRows) {
@@ -120,6 +121,16 @@ bool buildSgaSystem(PassContext &pc, const SgaResult &sga, bool project,
       !fillEvents(pc, *pc.events,
                   [&](ir::ExprRef e) { return subst.apply(e); }, sys))
     return false;
+  // The model as written, for an event's jump rule (seed 002): its own
+  // equations beside the link rows. Only a run with events re-initializes.
+  const bool events = !sys.roots.empty() || !sys.events.discrete.empty() ||
+                      !sys.events.timeThresholds.empty() ||
+                      !sys.events.samples.empty();
+  if (events)
+    for (int e : sga.input.equations)
+      sys.writtenResiduals.push_back(subst.apply(m.equations[e].residual));
+  else
+    sys.writtenResiduals.clear();
   pc.report.states = sys.stateSets[0].states;
   pc.report.dof = sga.dof;
   pc.report.systemUnknowns = static_cast<int>(n);

@@ -219,6 +219,55 @@ int ConstraintProjection::projectStart(double t, double *y, bool holdFixed,
   return iterate(t, y, held, nullptr, kMaxStartIterations, true);
 }
 
+int ConstraintProjection::projectAlong(double t, double *y,
+                                       const Eigen::MatrixXd &T) {
+  if (m_ == 0)
+    return 0;
+  ++count_;
+  const ldae_model &m = ev_.model();
+  Eigen::Map<Eigen::VectorXd> yv(y, n_);
+  Eigen::Map<const Eigen::VectorXd> c(c_.data(), m_);
+  if (int rc = m.constraints(t, y, ev_.params(), c_.data()))
+    return rc;
+  const double ref =
+      std::max(1.0, yv.cwiseQuotient(scale_).lpNorm<Eigen::Infinity>());
+  for (int it = 0; it < kMaxStartIterations; ++it) {
+    if (int rc = m.constraint_jacobian(t, y, ev_.params(), jc_.data()))
+      return rc;
+    Eigen::MatrixXd B =
+        Eigen::Map<const Eigen::MatrixXd>(jc_.data(), m_, n_) * T;
+    // Rows equilibrated as in linearize: a rank decision relative to the
+    // largest entry must not drop a constraint for its units.
+    Eigen::VectorXd rs = B.rowwise().lpNorm<Eigen::Infinity>();
+    rs = rs.unaryExpr([](double r) { return r > 0 ? 1 / r : 1.0; });
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(
+        rs.asDiagonal() * B);
+    cod.setThreshold(kRankTolerance);
+    Eigen::VectorXd step = T * cod.solve(rs.cwiseProduct(-c));
+    const double size = step.cwiseQuotient(scale_).lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(size))
+      return kNoConvergence;
+    const double norm = c.lpNorm<Eigen::Infinity>();
+    const Eigen::VectorXd from = yv;
+    double alpha = 1;
+    for (;;) {
+      yv = from + alpha * step;
+      int rc = m.constraints(t, y, ev_.params(), c_.data());
+      if (rc == 0 && (c.lpNorm<Eigen::Infinity>() < norm ||
+                      alpha * size <= kConverged * ref))
+        break;
+      alpha /= 2;
+      if (alpha < kSmallestDamping) {
+        yv = from;
+        return rc ? rc : kNoConvergence;
+      }
+    }
+    if (alpha * size <= kConverged * ref)
+      return 0;
+  }
+  return kNoConvergence;
+}
+
 bool ConstraintProjection::freeRankFull(const std::vector<char> &met,
                                         const std::vector<char> &keep) const {
   std::vector<int> rows, cols;

@@ -36,6 +36,12 @@ public:
   /// says which rule gave the point.
   int projectStart(double t, double *y, bool holdFixed,
                    bool *restricted = nullptr);
+  /// An event's re-initialization (seed 002): y moves only along the
+  /// columns of T (the jump directions of the model as written), to the
+  /// point y + T a on the constraints, by damped Gauss-Newton on a with
+  /// least-norm steps. kNoConvergence where no such point is found (the
+  /// constraints cannot be met along T).
+  int projectAlong(double t, double *y, const Eigen::MatrixXd &T);
   /// One Gauss-Newton correction at y, not applied: dy = -D (Jc D)^+ c.
   int correction(double t, const double *y, double *dy);
   /// The component of `err` normal to the manifold at the last projected

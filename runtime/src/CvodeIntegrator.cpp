@@ -5,6 +5,7 @@
 #include "CvodeIntegrator.h"
 #include "ConstraintProjection.h"
 #include "ImplicitOde.h"
+#include "JumpRule.h"
 #include "SundialsSupport.h"
 
 #include <Eigen/Eigenvalues>
@@ -415,17 +416,32 @@ Expected<bool> CvodeIntegrator::restartAt(double t, const double *y) {
 }
 
 Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
-                                       const double *) {
+                                       const double *yp) {
   if (set != shared_.set)
     return Error{"internal error: CVODE runs a model with one state set"};
   impl_->pendingRestart.clear();
   if (!impl_->projection || !impl_->projection->active())
     return restartAt(t, y);
+  // After an event, seed 002's rule: the point jumps onto the constraints
+  // of the mode it entered along T(E, F) of the model as written (two
+  // capacitors joined keep their charge; a mass that sticks keeps its
+  // position, only the friction force jumps). The SGA's own rows have a
+  // nonsingular E: their T is empty. Where the constraints cannot be met
+  // along T, the start's rule below takes the nearest point.
+  std::vector<double> on(y, y + ev_.n());
+  const bool afterEvent = std::exchange(afterEvent_, false);
+  if (afterEvent)
+    stepped_ = true; // the run goes on: its fixed start values are free
+  if (afterEvent && yp && ev_.model().n_written > 0) {
+    Eigen::MatrixXd T = writtenJumpBasis(ev_, t, y, yp);
+    if (T.cols() == 0 ||
+        impl_->projection->projectAlong(t, on.data(), T) != 0)
+      on.assign(y, y + ev_.n());
+  }
   // A point handed over from outside (the initialization's own Newton
   // iteration, an event's re-initialization) need only solve the rows: it
   // goes onto P_f by the start's rule first, else CVODE's first
   // projection fails from it.
-  std::vector<double> on(y, y + ev_.n());
   if (StepStatus st = startOnConstraints(t, on.data()); !st.ok())
     return Error{fmt::format("the point at t = {:.10g} cannot be projected "
                              "onto the constraints",

@@ -31,6 +31,7 @@ public:
                       double tstop, bool errorTestAlgebraic) override;
   Expected<bool> reinit(int set, double t, const double *y,
                         const double *yp) override;
+  void nextReinitAfterEvent() override { afterEvent_ = true; }
   /// y' = f(t0, y): every unknown of an ODE is differential (a linearly
   /// implicit model's start is projected onto its constraints first).
   StepStatus completeStart(double tout1) override;
@@ -77,6 +78,7 @@ private:
   bool switched_ = false; // it did
   bool project_ = false;  // sga: onto the constraints after every step
   bool stepped_ = false;  // a step was taken: fixed start values are free
+  bool afterEvent_ = false; // the next reinit continues after an event
   std::string name_;
   SimStats saved_; // counters of earlier restarts
 };

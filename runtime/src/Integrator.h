@@ -68,6 +68,10 @@ public:
   /// Restarts at (t, y, y') with state set `set`.
   virtual Expected<bool> reinit(int set, double t, const double *y,
                                 const double *yp) = 0;
+  /// The next reinit continues the run after an event (also in a new
+  /// mode's integrator): a projecting integrator re-initializes by the jump
+  /// rule there, not by the start's (no fixed start values held).
+  virtual void nextReinitAfterEvent() {}
   /// Completes the held point from its differential values: y' of the
   /// differential and y of the algebraic unknowns (IDACalcIC; for an ODE
   /// y' = f(t, y)). `tout1` is the first time the run will reach.

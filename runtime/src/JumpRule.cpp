@@ -24,6 +24,20 @@ const int *originalRow(const ldae_model &m, int set) {
   return m.original_row ? m.original_row[set] : nullptr;
 }
 
+/// Each row of the pencil divided by its largest entry in E or F: T is
+/// unchanged, and a capacitance of 1e-9 in one row must not look like zero
+/// beside a conductance in another.
+void equilibrateRows(MatrixXd &E, MatrixXd &F) {
+  for (Eigen::Index a = 0; a < E.rows(); ++a) {
+    double s = std::max(E.row(a).cwiseAbs().maxCoeff(),
+                        F.row(a).cwiseAbs().maxCoeff());
+    if (s > 0) {
+      E.row(a) /= s;
+      F.row(a) /= s;
+    }
+  }
+}
+
 /// The pencil as written in scaled coordinates; `cols` are its unknowns.
 /// False when an equation as written reads a dummy that stands for the
 /// derivative of another dummy (a second derivative: the pencil is not
@@ -70,18 +84,27 @@ bool writtenPencil(const ldae_model &m, int set, const MatrixXd &E,
     Ew.col(c) *= D(cols[c]);
     Fw.col(c) *= D(cols[c]);
   }
-  for (Eigen::Index a = 0; a < Ew.rows(); ++a) {
-    double s = std::max(Ew.row(a).cwiseAbs().maxCoeff(),
-                        Fw.row(a).cwiseAbs().maxCoeff());
-    if (s > 0) {
-      Ew.row(a) /= s;
-      Fw.row(a) /= s;
-    }
-  }
+  equilibrateRows(Ew, Fw);
   return true;
 }
 
 } // namespace
+
+MatrixXd writtenJumpBasis(const ModelEval &ev, double t, const double *y,
+                          const double *yp) {
+  const ldae_model &m = ev.model();
+  MatrixXd Fy, E;
+  if (m.n_written <= 0 || m.n > kJumpRuleDenseLimit ||
+      ev.writtenJacobian(t, y, yp, Fy, E) != 0 || !Fy.allFinite() ||
+      !E.allFinite())
+    return MatrixXd();
+  const VectorXd D = nominalScale(m);
+  MatrixXd Ew = E * D.asDiagonal(), Fw = -Fy * D.asDiagonal();
+  equilibrateRows(Ew, Fw);
+  int index = 0;
+  MatrixXd T = numeric::jumpSpace(Ew, Fw, &index, kWongTol);
+  return D.asDiagonal() * T;
+}
 
 bool hasWrittenPencil(const ldae_model &m, int set) {
   const int *dummy = dummyRow(m, set);

@@ -70,6 +70,14 @@ bool jumpsAreAlgebraic(const ldae_model &m, int set,
 bool jumpRuleKeepsStates(const ModelEval &ev, int set, double t,
                          const double *y, const double *yp);
 
+/// The geometric methods' jump directions at (t, y, y'): T of the model as
+/// written (ldae_model::written_jacobian, rows equilibrated, columns in
+/// nominal units), returned in the unknowns' own units (n x dim T). Empty
+/// without the pencil, above kJumpRuleDenseLimit unknowns, or where it
+/// cannot be evaluated.
+Eigen::MatrixXd writtenJumpBasis(const ModelEval &ev, double t,
+                                 const double *y, const double *yp);
+
 /// diag(nominal) of the model's unknowns (1 without nominal values).
 Eigen::VectorXd nominalScale(const ldae_model &m);
 

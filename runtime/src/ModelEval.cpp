@@ -186,6 +186,16 @@ int ModelEval::initJacobian(double t, const double *y, const double *yp,
   return 0;
 }
 
+int ModelEval::writtenJacobian(double t, const double *y, const double *yp,
+                               Eigen::MatrixXd &Fy, Eigen::MatrixXd &E) const {
+  const int rows = m_.written_jacobian ? m_.n_written : 0;
+  Fy.setZero(rows, m_.n);
+  E.setZero(rows, m_.n);
+  if (rows == 0)
+    return 0;
+  return m_.written_jacobian(t, y, yp, p_.data(), Fy.data(), E.data());
+}
+
 int ModelEval::paramIndex(const char *name) const {
   for (int i = 0; i < m_.n_params; ++i)
     if (m_.param_names && m_.param_names[i] &&

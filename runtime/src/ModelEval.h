@@ -81,6 +81,11 @@ public:
   int initJacobianCsc(double t, const double *y, const double *yp,
                       std::vector<double> &gy, std::vector<double> &gyp) const;
 
+  /// dF/dy and dF/dy' of the model as written (the geometric methods'
+  /// ldae_model::written_residual), dense n_written x n; 0 rows without.
+  int writtenJacobian(double t, const double *y, const double *yp,
+                      Eigen::MatrixXd &Fy, Eigen::MatrixXd &E) const;
+
   /// The unknown's name ("y[3]" when the model has none).
   std::string varName(int i) const;
   /// "file:line" of the equation of residual row `row`, or "" if unknown.

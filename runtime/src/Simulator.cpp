@@ -283,6 +283,7 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
                        const std::vector<int> &held, std::string &failure,
                        std::ostream *log) {
   // The moves are logged as the event's jump (EventLoop), not twice.
+  ida.nextReinitAfterEvent();
   InitOutcome init =
       reinitializeAfterEvent(ev, ida.set(), t, y, yp, held, nullptr);
   if (!init.ok) {

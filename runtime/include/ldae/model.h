@@ -22,7 +22,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 8
+#define LDAE_ABI_VERSION 9
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -333,6 +333,19 @@ typedef struct ldae_model {
   int n_dynamic_sets;
   const ldae_dynamic_set *dynamic_sets;
   int n_selection;
+
+  /* ---- The model as written, for the geometric methods (ABI 9) ----
+     --method sga|ode integrate the SGA's vector field, whose rows are not
+     the model's equations, so the pencil an event's re-initialization
+     jumps along (seed 002's rule, T(E, F)) comes from here: the
+     n_written rows of written_residual are every equation of the model
+     and the link rows der(slot) - next slot, over the same unknowns;
+     written_jacobian writes dF/dy and dF/dy' of them (dense,
+     column-major n_written x n). 0 and NULL for the other methods and for
+     models without events. */
+  int n_written;
+  ldae_init_residual_fn written_residual;
+  ldae_init_jacobian_fn written_jacobian;
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians
