@@ -121,16 +121,13 @@ bool buildSgaSystem(PassContext &pc, const SgaResult &sga, bool project,
       !fillEvents(pc, *pc.events,
                   [&](ir::ExprRef e) { return subst.apply(e); }, sys))
     return false;
-  // The model as written, for an event's jump rule (seed 002): its own
-  // equations beside the link rows. Only a run with events re-initializes.
-  const bool events = !sys.roots.empty() || !sys.events.discrete.empty() ||
-                      !sys.events.timeThresholds.empty() ||
-                      !sys.events.samples.empty();
-  if (events)
-    for (int e : sga.input.equations)
-      sys.writtenResiduals.push_back(subst.apply(m.equations[e].residual));
-  else
-    sys.writtenResiduals.clear();
+  // The model as written, for the jump rule (seed 002) at the start and
+  // after events: its own equations beside the link rows.
+  // (The SGA's own copies: a square model made of an over-determined one
+  // has dropped its redundant equations from the model since.)
+  for (const SgaRow &row : sga.rows)
+    if (row.constraint < 0 && row.residual)
+      sys.writtenResiduals.push_back(subst.apply(row.residual));
   pc.report.states = sys.stateSets[0].states;
   pc.report.dof = sga.dof;
   pc.report.systemUnknowns = static_cast<int>(n);

@@ -430,13 +430,9 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
   // along T, the start's rule below takes the nearest point.
   std::vector<double> on(y, y + ev_.n());
   const bool afterEvent = std::exchange(afterEvent_, false);
-  if (afterEvent)
+  if (afterEvent) {
     stepped_ = true; // the run goes on: its fixed start values are free
-  if (afterEvent && yp && ev_.model().n_written > 0) {
-    Eigen::MatrixXd T = writtenJumpBasis(ev_, t, y, yp);
-    if (T.cols() == 0 ||
-        impl_->projection->projectAlong(t, on.data(), T) != 0)
-      on.assign(y, y + ev_.n());
+    jumpOntoConstraints(t, on.data(), yp, /*holdFixed=*/false);
   }
   // A point handed over from outside (the initialization's own Newton
   // iteration, an event's re-initialization) need only solve the rows: it
@@ -447,6 +443,46 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
                              "onto the constraints",
                              t)};
   return restartAt(t, on.data());
+}
+
+bool CvodeIntegrator::jumpOntoConstraints(double t, double *y,
+                                          const double *yp, bool holdFixed) {
+  const int n = ev_.n();
+  if (ev_.model().n_written <= 0)
+    return false;
+  // The pencil's F reads y' through E(y) y' terms: the field's value at
+  // the point where the caller has none (the start).
+  std::vector<double> f(n, 0.0);
+  if (!yp && evalRhs(impl_->cb, t, y, f.data()) == 0)
+    yp = f.data();
+  Eigen::MatrixXd T = writtenJumpBasis(ev_, t, y, yp ? yp : f.data());
+  if (holdFixed && T.cols() > 0) {
+    // Fixed start values are conditions: only the combinations of T that
+    // leave them move.
+    const int *fixed = ev_.model().fixed;
+    std::vector<int> rows;
+    for (int i = 0; fixed && i < n; ++i)
+      if (fixed[i])
+        rows.push_back(i);
+    if (!rows.empty()) {
+      Eigen::MatrixXd Tf(rows.size(), T.cols());
+      for (size_t r = 0; r < rows.size(); ++r)
+        Tf.row(Eigen::Index(r)) = T.row(rows[r]);
+      Eigen::FullPivLU<Eigen::MatrixXd> lu(Tf);
+      lu.setThreshold(1e-10);
+      if (lu.rank() == Tf.cols())
+        T.resize(n, 0); // (kernel() is one zero column then)
+      else
+        T = T * lu.kernel();
+    }
+  }
+  if (T.cols() == 0)
+    return false;
+  std::vector<double> along(y, y + n);
+  if (impl_->projection->projectAlong(t, along.data(), T) != 0)
+    return false;
+  std::copy(along.begin(), along.end(), y);
+  return true;
 }
 
 StepStatus CvodeIntegrator::startOnConstraints(double t, double *y) {
@@ -485,6 +521,8 @@ StepStatus CvodeIntegrator::completeStart(double) {
   Impl &I = *impl_;
   double *y = N_VGetArrayPointer(I.y);
   if (I.projection && I.projection->active()) {
+    if (!stepped_)
+      jumpOntoConstraints(I.t, y, nullptr, /*holdFixed=*/true);
     if (StepStatus st = startOnConstraints(I.t, y); !st.ok())
       return st;
     if (auto re = restartAt(I.t, y); !re)

@@ -54,6 +54,13 @@ private:
   Expected<bool> restartAt(double t, const double *y);
   /// y onto the constraints by the start's rule (fixed start values held
   /// before the first step), and the Adams stabilization rate there.
+  /// Seed 002's rule on the model as written (ldae_model::written_*): y
+  /// moves along T(E, F) at (t, y, y') onto every constraint; `holdFixed`
+  /// keeps the fixed start values (the start); y' null: the field's. False,
+  /// y untouched, without the pencil or where the constraints cannot be
+  /// met along T (the nearest point then decides).
+  bool jumpOntoConstraints(double t, double *y, const double *yp,
+                           bool holdFixed);
   StepStatus startOnConstraints(double t, double *y);
   void saveCounters();
   void updateName();
