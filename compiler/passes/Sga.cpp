@@ -506,8 +506,13 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
       out_.redundant.push_back(own.sources.front());
       truncateConstraints(out_.constraints.size() - 1);
       out_.rows.pop_back();
-      if (!samplePoints(pts))
+      if (!samplePoints(pts)) {
+        // No point without it, yet no conflict named either (a fuzzer's
+        // grounded pin written twice made NoSolution with no constraint
+        // to name, and the report crashed on it).
+        undecided_ = true;
         return false;
+      }
       continue;
     }
     grew = true;

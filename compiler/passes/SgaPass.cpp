@@ -179,6 +179,9 @@ bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
   ir::Model &m = ctx.model;
   switch (out.outcome) {
   case SgaReport::Outcome::NoSolution: {
+    if (out.conflict < 0 ||
+        static_cast<size_t>(out.conflict) >= out.constraints.size())
+      return true; // no conflict to name: no verdict (runSga's contract)
     const SgaConstraintExpr &c =
         out.constraints[static_cast<size_t>(out.conflict)];
     Diagnostic &d = ctx.diags.report(
