@@ -170,12 +170,17 @@ int ConstraintProjection::project(double t, double *y, bool holdFixed,
 
 int ConstraintProjection::projectStart(double t, double *y, bool holdFixed,
                                        bool *restricted) {
+  return projectStartHolding(t, y, fixedMask(holdFixed), restricted);
+}
+
+int ConstraintProjection::projectStartHolding(double t, double *y,
+                                              const std::vector<char> &held,
+                                              bool *restricted) {
   if (restricted)
     *restricted = false;
   if (m_ == 0)
     return 0;
   ++count_;
-  const std::vector<char> &held = fixedMask(holdFixed);
   if (int rc = ev_.model().constraints(t, y, ev_.params(), c_.data()))
     return rc;
   if (int rc = linearize(t, y, held))
@@ -266,6 +271,15 @@ int ConstraintProjection::projectAlong(double t, double *y,
       return 0;
   }
   return kNoConvergence;
+}
+
+int ConstraintProjection::projectHolding(double t, double *y,
+                                         const std::vector<int> &held) {
+  std::vector<char> mask(n_, 0);
+  for (int i : held)
+    if (i >= 0 && i < n_)
+      mask[i] = 1;
+  return projectStartHolding(t, y, mask, nullptr);
 }
 
 bool ConstraintProjection::freeRankFull(const std::vector<char> &met,

@@ -42,6 +42,11 @@ public:
   /// least-norm steps. kNoConvergence where no such point is found (the
   /// constraints cannot be met along T).
   int projectAlong(double t, double *y, const Eigen::MatrixXd &T);
+  /// projectStart's rule with the unknowns `held` kept instead of the
+  /// fixed ones: the jump rule's fallback after an event where holding the
+  /// reinit targets leaves no step along T (a pendulum's vx reinit at a
+  /// wall: its position, which a met constraint reads, stays; vy moves).
+  int projectHolding(double t, double *y, const std::vector<int> &held);
   /// One Gauss-Newton correction at y, not applied: dy = -D (Jc D)^+ c.
   int correction(double t, const double *y, double *dy);
   /// The component of `err` normal to the manifold at the last projected
@@ -55,6 +60,8 @@ public:
   static constexpr int kNoConvergence = 1 << 29;
 
 private:
+  int projectStartHolding(double t, double *y, const std::vector<char> &held,
+                          bool *restricted);
   int linearize(double t, const double *y, const std::vector<char> &held);
   /// Gauss-Newton from y over the unknowns not `held`, each step halved
   /// until max |c| decreases (a start may be far off).

@@ -432,7 +432,11 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
   const bool afterEvent = std::exchange(afterEvent_, false);
   if (afterEvent) {
     stepped_ = true; // the run goes on: its fixed start values are free
-    jumpOntoConstraints(t, on.data(), yp, /*holdFixed=*/false);
+    // Where holding the reinit targets leaves no step along T: the
+    // nearest point with them held (the dd rule); else the start's rule.
+    if (!jumpOntoConstraints(t, on.data(), yp, heldAfterEvent_) &&
+        !heldAfterEvent_.empty())
+      impl_->projection->projectHolding(t, on.data(), heldAfterEvent_);
   }
   // A point handed over from outside (the initialization's own Newton
   // iteration, an event's re-initialization) need only solve the rows: it
@@ -445,8 +449,18 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
   return restartAt(t, on.data());
 }
 
+std::vector<int> CvodeIntegrator::fixedUnknowns() const {
+  std::vector<int> fixed;
+  const int *f = ev_.model().fixed;
+  for (int i = 0; f && i < ev_.n(); ++i)
+    if (f[i])
+      fixed.push_back(i);
+  return fixed;
+}
+
 bool CvodeIntegrator::jumpOntoConstraints(double t, double *y,
-                                          const double *yp, bool holdFixed) {
+                                          const double *yp,
+                                          const std::vector<int> &held) {
   const int n = ev_.n();
   if (ev_.model().n_written <= 0)
     return false;
@@ -456,15 +470,11 @@ bool CvodeIntegrator::jumpOntoConstraints(double t, double *y,
   if (!yp && evalRhs(impl_->cb, t, y, f.data()) == 0)
     yp = f.data();
   Eigen::MatrixXd T = writtenJumpBasis(ev_, t, y, yp ? yp : f.data());
-  if (holdFixed && T.cols() > 0) {
-    // Fixed start values are conditions: only the combinations of T that
-    // leave them move.
-    const int *fixed = ev_.model().fixed;
-    std::vector<int> rows;
-    for (int i = 0; fixed && i < n; ++i)
-      if (fixed[i])
-        rows.push_back(i);
-    if (!rows.empty()) {
+  if (!held.empty() && T.cols() > 0) {
+    // Held values are conditions: only the combinations of T that leave
+    // them move.
+    const std::vector<int> &rows = held;
+    {
       Eigen::MatrixXd Tf(rows.size(), T.cols());
       for (size_t r = 0; r < rows.size(); ++r)
         Tf.row(Eigen::Index(r)) = T.row(rows[r]);
@@ -522,7 +532,7 @@ StepStatus CvodeIntegrator::completeStart(double) {
   double *y = N_VGetArrayPointer(I.y);
   if (I.projection && I.projection->active()) {
     if (!stepped_)
-      jumpOntoConstraints(I.t, y, nullptr, /*holdFixed=*/true);
+      jumpOntoConstraints(I.t, y, nullptr, fixedUnknowns());
     if (StepStatus st = startOnConstraints(I.t, y); !st.ok())
       return st;
     if (auto re = restartAt(I.t, y); !re)

@@ -31,7 +31,10 @@ public:
                       double tstop, bool errorTestAlgebraic) override;
   Expected<bool> reinit(int set, double t, const double *y,
                         const double *yp) override;
-  void nextReinitAfterEvent() override { afterEvent_ = true; }
+  void nextReinitAfterEvent(const std::vector<int> &held) override {
+    afterEvent_ = true;
+    heldAfterEvent_ = held;
+  }
   /// y' = f(t0, y): every unknown of an ODE is differential (a linearly
   /// implicit model's start is projected onto its constraints first).
   StepStatus completeStart(double tout1) override;
@@ -55,12 +58,15 @@ private:
   /// y onto the constraints by the start's rule (fixed start values held
   /// before the first step), and the Adams stabilization rate there.
   /// Seed 002's rule on the model as written (ldae_model::written_*): y
-  /// moves along T(E, F) at (t, y, y') onto every constraint; `holdFixed`
-  /// keeps the fixed start values (the start); y' null: the field's. False,
+  /// moves along T(E, F) at (t, y, y') onto every constraint; the unknowns
+  /// `held` keep their values (the fixed start values at the start, the
+  /// reinit targets after an event); y' null: the field's. False,
   /// y untouched, without the pencil or where the constraints cannot be
   /// met along T (the nearest point then decides).
+  /// The unknowns with a fixed start value.
+  std::vector<int> fixedUnknowns() const;
   bool jumpOntoConstraints(double t, double *y, const double *yp,
-                           bool holdFixed);
+                           const std::vector<int> &held);
   StepStatus startOnConstraints(double t, double *y);
   void saveCounters();
   void updateName();
@@ -86,6 +92,7 @@ private:
   bool project_ = false;  // sga: onto the constraints after every step
   bool stepped_ = false;  // a step was taken: fixed start values are free
   bool afterEvent_ = false; // the next reinit continues after an event
+  std::vector<int> heldAfterEvent_; // and holds these (reinit targets)
   std::string name_;
   SimStats saved_; // counters of earlier restarts
 };

@@ -70,8 +70,11 @@ public:
                                 const double *yp) = 0;
   /// The next reinit continues the run after an event (also in a new
   /// mode's integrator): a projecting integrator re-initializes by the jump
-  /// rule there, not by the start's (no fixed start values held).
-  virtual void nextReinitAfterEvent() {}
+  /// rule there, not by the start's, holding `held` (the fired reinits'
+  /// targets) instead of the fixed start values.
+  virtual void nextReinitAfterEvent(const std::vector<int> &held) {
+    (void)held;
+  }
   /// Completes the held point from its differential values: y' of the
   /// differential and y of the algebraic unknowns (IDACalcIC; for an ODE
   /// y' = f(t, y)). `tout1` is the first time the run will reach.

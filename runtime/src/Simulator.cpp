@@ -283,7 +283,7 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
                        const std::vector<int> &held, std::string &failure,
                        std::ostream *log) {
   // The moves are logged as the event's jump (EventLoop), not twice.
-  ida.nextReinitAfterEvent();
+  ida.nextReinitAfterEvent(held);
   InitOutcome init =
       reinitializeAfterEvent(ev, ida.set(), t, y, yp, held, nullptr);
   if (!init.ok) {
@@ -305,8 +305,11 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
     failure = describeSolverError(t, re.error());
     return false;
   }
-  y = init.y;
-  yp = init.yp;
+  // The integrator's point: a projecting one (sga) moved it onto its
+  // constraints after the rows were solved.
+  const int n = ev.n();
+  y.assign(ida.y(), ida.y() + n);
+  yp.assign(ida.yp(), ida.yp() + n);
   return true;
 }
 
