@@ -19,7 +19,9 @@ cmake --build $build --target ldaec ldae_jit
 work=$build/tests/fuzz/long-$seed
 mkdir -p $work
 cp $build/compiler/driver/ldaec $work/ldaec
-cp "$(find $build -name libldae_jit.so | head -1)" $work/
+# (The build's own: a find over the build dir picked an earlier run's copy,
+# from another build, and every JIT stage failed on it.)
+cp $build/compiler/driver/libldae_jit.so $work/
 python3 tests/fuzz/mutate.py --ldaec $work/ldaec \
   --source-dir . --work-dir $work \
   --count "$count" --seed "$seed" --jobs "${JOBS:-2}"
