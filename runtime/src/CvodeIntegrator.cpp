@@ -467,25 +467,12 @@ bool CvodeIntegrator::jumpOntoConstraints(double t, double *y,
   // The pencil's F reads y' through E(y) y' terms: the field's value at
   // the point where the caller has none (the start).
   std::vector<double> f(n, 0.0);
-  if (!yp && evalRhs(impl_->cb, t, y, f.data()) == 0)
+  if (!yp) {
+    if (evalRhs(impl_->cb, t, y, f.data()) != 0)
+      std::fill(f.begin(), f.end(), 0.0);
     yp = f.data();
-  Eigen::MatrixXd T = writtenJumpBasis(ev_, t, y, yp ? yp : f.data());
-  if (!held.empty() && T.cols() > 0) {
-    // Held values are conditions: only the combinations of T that leave
-    // them move.
-    const std::vector<int> &rows = held;
-    {
-      Eigen::MatrixXd Tf(rows.size(), T.cols());
-      for (size_t r = 0; r < rows.size(); ++r)
-        Tf.row(Eigen::Index(r)) = T.row(rows[r]);
-      Eigen::FullPivLU<Eigen::MatrixXd> lu(Tf);
-      lu.setThreshold(1e-10);
-      if (lu.rank() == Tf.cols())
-        T.resize(n, 0); // (kernel() is one zero column then)
-      else
-        T = T * lu.kernel();
-    }
   }
+  const Eigen::MatrixXd T = writtenJumpBasis(ev_, t, y, yp, held);
   if (T.cols() == 0)
     return false;
   std::vector<double> along(y, y + n);

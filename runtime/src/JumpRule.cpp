@@ -91,7 +91,7 @@ bool writtenPencil(const ldae_model &m, int set, const MatrixXd &E,
 } // namespace
 
 MatrixXd writtenJumpBasis(const ModelEval &ev, double t, const double *y,
-                          const double *yp) {
+                          const double *yp, const std::vector<int> &held) {
   const ldae_model &m = ev.model();
   MatrixXd Fy, E;
   if (m.n_written <= 0 || m.n > kJumpRuleDenseLimit ||
@@ -102,8 +102,17 @@ MatrixXd writtenJumpBasis(const ModelEval &ev, double t, const double *y,
   MatrixXd Ew = E * D.asDiagonal(), Fw = -Fy * D.asDiagonal();
   equilibrateRows(Ew, Fw);
   int index = 0;
-  MatrixXd T = numeric::jumpSpace(Ew, Fw, &index, kWongTol);
-  return D.asDiagonal() * T;
+  MatrixXd T = D.asDiagonal() * numeric::jumpSpace(Ew, Fw, &index, kWongTol);
+  if (held.empty() || T.cols() == 0)
+    return T;
+  MatrixXd Th(held.size(), T.cols());
+  for (size_t r = 0; r < held.size(); ++r)
+    Th.row(Eigen::Index(r)) = T.row(held[r]);
+  Eigen::FullPivLU<MatrixXd> lu(Th);
+  lu.setThreshold(kWongTol);
+  if (lu.rank() == Th.cols())
+    return MatrixXd(m.n, 0); // (kernel() is one zero column then)
+  return T * lu.kernel();
 }
 
 bool hasWrittenPencil(const ldae_model &m, int set) {

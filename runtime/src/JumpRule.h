@@ -21,6 +21,7 @@
 
 #include <Eigen/Dense>
 #include <string>
+#include <vector>
 
 namespace ldae::runtime {
 
@@ -72,11 +73,13 @@ bool jumpRuleKeepsStates(const ModelEval &ev, int set, double t,
 
 /// The geometric methods' jump directions at (t, y, y'): T of the model as
 /// written (ldae_model::written_jacobian, rows equilibrated, columns in
-/// nominal units), returned in the unknowns' own units (n x dim T). Empty
-/// without the pencil, above kJumpRuleDenseLimit unknowns, or where it
-/// cannot be evaluated.
+/// nominal units), returned in the unknowns' own units (n x dim T); with
+/// `held`, only its combinations that leave those unknowns (conditions:
+/// fixed start values, reinit targets). Empty without the pencil, above
+/// kJumpRuleDenseLimit unknowns, or where it cannot be evaluated.
 Eigen::MatrixXd writtenJumpBasis(const ModelEval &ev, double t,
-                                 const double *y, const double *yp);
+                                 const double *y, const double *yp,
+                                 const std::vector<int> &held = {});
 
 /// diag(nominal) of the model's unknowns (1 without nominal values).
 Eigen::VectorXd nominalScale(const ldae_model &m);
