@@ -277,6 +277,7 @@ void Flattener::flattenWhen(const ast::Equation &eq, const Scope &scope,
     ir::ExprRef cond = ctx().logicalOr(c->elems);
     ir::WhenClause clause;
     clause.condition = cond;
+    clause.elements = c->elems;
     clause.elsewhen = k > 0;
     clause.loc = k == 0 ? eq.loc : ce.loc;
     EqSink body;

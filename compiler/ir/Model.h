@@ -110,6 +110,10 @@ struct Terminate {
 /// `when condition then ... end when;`: kept on the model for the event stage.
 struct WhenClause {
   ExprRef condition = nullptr; // fires when it turns from 0 to 1
+  /// The elements of a vector condition (`when {a, b}`), else the
+  /// condition alone: the clause fires when any element turns from 0 to 1
+  /// (Modelica 3.5 section 8.3.5), not only when their disjunction does.
+  std::vector<ExprRef> elements;
   SourceLoc loc;
   /// An `elsewhen` branch of the clause before it: it fires only where no
   /// earlier branch of the same when-equation fires.

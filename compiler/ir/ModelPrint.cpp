@@ -102,8 +102,17 @@ std::string Model::print() const {
        << (a.level ? ", AssertionLevel.warning" : "") << ");\n";
   for (size_t i = 0; i < whenClauses.size(); ++i) {
     const WhenClause &w = whenClauses[i];
-    os << (w.elsewhen ? "  elsewhen " : "  when ") << printLsd(w.condition, this)
-       << " then\n";
+    os << (w.elsewhen ? "  elsewhen " : "  when ");
+    if (w.elements.size() > 1) {
+      // The vector as written: its elements fire one by one.
+      os << "{";
+      for (size_t k = 0; k < w.elements.size(); ++k)
+        os << (k ? ", " : "") << printLsd(w.elements[k], this);
+      os << "}";
+    } else {
+      os << printLsd(w.condition, this);
+    }
+    os << " then\n";
     for (const Reinit &r : w.reinits)
       os << "    reinit(" << printIdentifier(variableName(r.var)) << ", "
          << printLsd(r.value, this) << ");\n";

@@ -506,6 +506,8 @@ int AliasEliminator::eliminateOnce() {
     e.residual = subst.apply(e.residual);
   for (ir::WhenClause &w : m.whenClauses) {
     w.condition = subst.apply(w.condition);
+    for (ir::ExprRef &c : w.elements)
+      c = subst.apply(c);
     for (ir::Reinit &r : w.reinits) {
       r.value = subst.apply(r.value);
       if (s.eliminated[r.var]) {

@@ -33,6 +33,7 @@ struct Slot {
   ir::ExprRef node = nullptr; // Variable: var(v); Relation: the Compare
   ir::VarId var = 0;          // Variable and the inputs
   int when = -1;              // When: the clause
+  ir::ExprRef condition = nullptr; // When: its (element of the) condition
   bool timeRelation = false;
   ir::ExprRef threshold = nullptr; // time relation: the other side
   ir::CompareKind timeCompare = ir::CompareKind::Lt; // time <op> threshold
@@ -50,6 +51,13 @@ ir::DiscreteKind inputKind(ir::EventInput in) {
     break;
   }
   return ir::DiscreteKind::Variable;
+}
+
+/// The conditions a clause watches: each element of a vector condition.
+std::span<const ir::ExprRef> conditionsOf(const ir::WhenClause &w) {
+  if (w.elements.empty())
+    return {&w.condition, 1};
+  return w.elements;
 }
 
 bool isInput(ir::DiscreteKind k) {
@@ -156,7 +164,8 @@ private:
   std::vector<Slot> slots_;
   std::map<ir::VarId, size_t> slotOfVar_;
   std::map<ir::ExprRef, size_t, ir::ExprIdLess> slotOfRelation_;
-  std::vector<size_t> slotOfWhen_;
+  /// The slots of each clause's condition elements (one for a scalar).
+  std::vector<std::vector<size_t>> slotsOfWhen_;
   int initialSlot_ = -1;
   /// The definition of each slot's new value (see the file comment), and
   /// the substitution that makes definitions: discrete variables read
@@ -234,7 +243,8 @@ void EventBuilder::collectSlots() {
   for (const ir::Equation &e : m_.initialEquations)
     roots.push_back(e.residual);
   for (const ir::WhenClause &w : m_.whenClauses)
-    roots.push_back(w.condition);
+    for (ir::ExprRef c : conditionsOf(w))
+      roots.push_back(c);
   for (ir::ExprRef n : ir::topologicalOrder(roots)) {
     if (!ir::isEventRelation(n, discrete_) || slotOfRelation_.count(n))
       continue;
@@ -266,12 +276,16 @@ void EventBuilder::collectSlots() {
     slots_.push_back(s);
   }
   for (size_t i = 0; i < m_.whenClauses.size(); ++i) {
-    Slot s;
-    s.kind = ir::DiscreteKind::When;
-    s.name = "when " + ir::printLsd(m_.whenClauses[i].condition, &m_);
-    s.when = static_cast<int>(i);
-    slotOfWhen_.push_back(slots_.size());
-    slots_.push_back(s);
+    slotsOfWhen_.emplace_back();
+    for (ir::ExprRef c : conditionsOf(m_.whenClauses[i])) {
+      Slot s;
+      s.kind = ir::DiscreteKind::When;
+      s.name = "when " + ir::printLsd(c, &m_);
+      s.when = static_cast<int>(i);
+      s.condition = c;
+      slotsOfWhen_.back().push_back(slots_.size());
+      slots_.push_back(s);
+    }
   }
 }
 
@@ -304,7 +318,7 @@ void EventBuilder::addParameters() {
     else if (s.kind == ir::DiscreteKind::Relation)
       d.start = startValue(s.node);
     else if (s.kind == ir::DiscreteKind::When)
-      d.start = startValue(m_.whenClauses[s.when].condition) != 0 ? 1 : 0;
+      d.start = startValue(s.condition) != 0 ? 1 : 0;
     out_.discrete.push_back(d);
   }
   // Names print verbatim: the variable, `(h <= 0)` for a relation's
@@ -409,19 +423,22 @@ bool EventBuilder::defineVariables(std::vector<ir::ExprRef> &value) {
   return ok;
 }
 
-/// Whether the condition of branch `clause` rose at this event: it is 1
-/// and its pre() is 0; during the initial event only a condition with
-/// initial() fires (and does, whatever its pre()).
+/// Whether the condition of branch `clause` rose at this event: one of
+/// its elements is 1 and its pre() is 0; during the initial event only an
+/// element with initial() fires (and does, whatever its pre()).
 ir::ExprRef EventBuilder::risen(size_t clause) {
-  const ir::WhenClause &w = m_.whenClauses[clause];
-  size_t k = slotOfWhen_[clause];
   const Slot &initial = slots_[static_cast<size_t>(initialSlot_)];
   ir::ExprRef init = cur(static_cast<size_t>(initialSlot_));
-  if (ir::dependsOn(w.condition, {initial.var, 0}))
-    return ctx_.logicalAnd(cur(k),
-                           ctx_.logicalOr(init, ctx_.logicalNot(pre(k))));
-  return ctx_.logicalAnd(std::vector<ir::ExprRef>{
-      cur(k), ctx_.logicalNot(pre(k)), ctx_.logicalNot(init)});
+  std::vector<ir::ExprRef> any;
+  for (size_t k : slotsOfWhen_[clause]) {
+    if (ir::dependsOn(slots_[k].condition, {initial.var, 0}))
+      any.push_back(ctx_.logicalAnd(
+          cur(k), ctx_.logicalOr(init, ctx_.logicalNot(pre(k)))));
+    else
+      any.push_back(ctx_.logicalAnd(std::vector<ir::ExprRef>{
+          cur(k), ctx_.logicalNot(pre(k)), ctx_.logicalNot(init)}));
+  }
+  return ctx_.logicalOr(any);
 }
 
 /// Whether branch `clause` fires: it rose and no earlier branch of the
@@ -449,7 +466,8 @@ bool EventBuilder::buildUpdate() {
       all.push_back(e.residual);
     for (const ir::Reinit &r : w.reinits)
       all.push_back(r.value);
-    all.push_back(w.condition);
+    for (ir::ExprRef c : conditionsOf(w))
+      all.push_back(c);
   }
   for (const ir::Equation &e : discreteEqs_)
     all.push_back(e.residual);
@@ -481,7 +499,7 @@ bool EventBuilder::buildUpdate() {
       def_[k] = sd.apply(s.node);
       break;
     case ir::DiscreteKind::When:
-      def_[k] = sd.apply(m_.whenClauses[s.when].condition);
+      def_[k] = sd.apply(s.condition);
       break;
     default: // inputs: the runtime sets them; the update copies them
       def_[k] = cur(k);

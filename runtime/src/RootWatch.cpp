@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ldae::runtime {
 
@@ -15,7 +16,8 @@ constexpr double kFloor = 1e-13;
 
 RootWatch::RootWatch(const ModelEval &ev)
     : ev_(ev), nr_(std::max(ev.model().n_roots, 0)), g_(nr_), scale_(nr_, 0.0),
-      excursion_(nr_, 0.0), atRestart_(nr_, 0.0), pending_(nr_, false) {}
+      excursion_(nr_, 0.0), atRestart_(nr_, 0.0), pending_(nr_, false),
+      zero_(nr_, false) {}
 
 bool RootWatch::evaluate(double t, const double *y, const double *yp) {
   const ldae_model &m = ev_.model();
@@ -40,18 +42,39 @@ bool RootWatch::exactlyZero(double t, const double *y,
 void RootWatch::restarted(double t, const double *y, const double *yp) {
   std::fill(excursion_.begin(), excursion_.end(), 0.0);
   std::fill(pending_.begin(), pending_.end(), false);
-  if (evaluate(t, y, yp))
-    atRestart_ = g_;
+  std::fill(zero_.begin(), zero_.end(), false);
+  aimedAhead_ = false;
+  if (!evaluate(t, y, yp))
+    return;
+  atRestart_ = g_;
+  for (int j = 0; j < nr_; ++j)
+    zero_[j] = g_[j] == 0;
+}
+
+double RootWatch::stopAheadOfZero(double t) {
+  bool any = std::find(zero_.begin(), zero_.end(), true) != zero_.end();
+  if (aimedAhead_ || !any)
+    return std::numeric_limits<double>::infinity();
+  aimedAhead_ = true;
+  return t + 1.4901161193847656e-08 * (1.0 + std::fabs(t)); // sqrt(eps)
 }
 
 bool RootWatch::stepped(double t, const double *y, const double *yp) {
-  if (std::none_of(pending_.begin(), pending_.end(), [](bool b) { return b; }))
+  auto none = [](const std::vector<bool> &v) {
+    return std::find(v.begin(), v.end(), true) == v.end();
+  };
+  if (none(pending_) && none(zero_))
     return evaluate(t, y, yp) && false;
   if (!evaluate(t, y, yp))
     return false;
   bool due = false;
   for (int j = 0; j < nr_; ++j) {
-    if (!pending_[j] || std::fabs(g_[j]) <= kFloor * scale_[j])
+    if ((!pending_[j] && !zero_[j]) || std::fabs(g_[j]) <= kFloor * scale_[j])
+      continue;
+    // Left zero: whether the relation changed is the event's to find.
+    due |= zero_[j];
+    zero_[j] = false;
+    if (!pending_[j])
       continue;
     pending_[j] = false;
     // Back on the side it started from: the crossings were round-off.

@@ -8,6 +8,14 @@
 // run) since the last event; a crossing ignored that way is made up for when
 // the root function leaves the floor on the other side (an event forced at
 // that step), so that no real change of sign is lost.
+//
+// A root function exactly zero at a start or restart (`when x > 0` with
+// x(0) = 0 and der(x) = 1) is set aside by IDA and CVODE until it leaves
+// zero, and its leaving is reported as no root: the relation's change just
+// after the start would be missed. So such a root function is watched here
+// too, the first step after the restart is made short (aheadOfZero), and
+// when it has left zero an event is due at that step (the event iteration
+// finds whether the relation changed).
 #pragma once
 
 #include "ModelEval.h"
@@ -29,6 +37,13 @@ public:
   bool withinRoundOff(const std::vector<int> &found);
   /// After an event or a restart at (t, y, y'): the excursions start again.
   void restarted(double t, const double *y, const double *yp);
+  /// Where the integrator should stop first after a restart at t: just
+  /// after t (far past round-off of t, far below any tolerance on it) when
+  /// a root function was exactly zero there, so that its leaving zero is
+  /// located there; +infinity otherwise, and after the first call since
+  /// the restart (a root function that stays zero must not hold every
+  /// step to that length).
+  double stopAheadOfZero(double t);
   /// Whether a root function is exactly zero at (t, y, y'). IDA and CVODE
   /// going on from a root they returned stop with "Root found at and very
   /// near t" when it is still exactly zero just past t (a diode's v = vs -
@@ -43,6 +58,8 @@ private:
   int nr_;
   std::vector<double> g_, scale_, excursion_, atRestart_;
   std::vector<bool> pending_; // a crossing was ignored since the restart
+  std::vector<bool> zero_;    // exactly zero at the restart, not left yet
+  bool aimedAhead_ = false;   // stopAheadOfZero answered since the restart
 };
 
 } // namespace ldae::runtime

@@ -15,6 +15,7 @@
 #include "RootWatch.h"
 #include "SparseInit.h"
 #include "StateSelection.h"
+#include "TimeRoots.h"
 #include "ldae/Simulation.h"
 
 #include <algorithm>
@@ -572,18 +573,78 @@ bool Run::restartOnZeroRoot(const ModelEval &ev, Integrator &ida,
 void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
                      const std::vector<int> &cols) {
   // Nothing left to integrate (alias elimination and constant folding
-  // solved everything): every output is a closed-form function of time.
-  // SUNDIALS cannot take an empty system (N_VMin of a length-0 vector
-  // reads element 0), so evaluate the outputs at the output times.
-  // Without solver steps, --every-step reports the same grid.
+  // solved everything, or the model is discrete only): every output is a
+  // function of time and the discrete values. SUNDIALS cannot take an
+  // empty system (N_VMin of a length-0 vector reads element 0), so the run
+  // walks the output times and the events itself. Without solver steps,
+  // --every-step reports the same grid.
   ModelEval ev(m, params);
   AssertChecker asserts(ev, o_.log);
   Recorder rec(ev, cols, res_, &asserts);
-  const double none = 0; // y and y' of length 0, never read
-  if (rec.record(s_.start, &none, &none))
-    for (long k = 1; s_.stop > s_.start && k <= nOut_; ++k)
-      if (!rec.record(gridTime(k), &none, &none))
-        break;
+  EventLoop events(ev, s_.rtol, o_.log);
+  std::vector<double> y, yp; // length 0, never read
+  const double *none = y.data();
+  Reinitialize nothingToMove = [](double, std::vector<double> &,
+                                  std::vector<double> &,
+                                  const std::vector<int> &,
+                                  std::string &) { return true; };
+  double t = s_.start;
+  // The rows an event outcome ends the run with; false to go on.
+  struct Counted { // the events counted however the walk ends
+    SimResult &res;
+    const EventLoop &events;
+    ~Counted() {
+      res.stats.events += events.events();
+      res.stats.timeEvents += events.timeEvents();
+    }
+  } counted{res_, events};
+  auto ended = [&](EventOutcome out) {
+    if (out == EventOutcome::Failed) {
+      res_.failure = events.message();
+      return true;
+    }
+    if (out != EventOutcome::Terminated)
+      return false;
+    if (o_.log)
+      *o_.log << fmt::format("t = {:.10g}: terminate: {}; the run ends here\n",
+                             t, events.message());
+    if (rec.record(t, none, none) && events.terminal(t, none, none))
+      rec.record(t, none, none);
+    return true;
+  };
+  if (ended(events.initial(t, y, yp, nothingToMove)) ||
+      !rec.record(t, none, none) || !(s_.stop > s_.start))
+    return;
+  TimeRoots crossing(ev);
+  while (t < s_.stop) {
+    double target = k_ <= nOut_ ? gridTime(k_) : s_.stop;
+    double timeEvent = events.nextTimeEvent(t, none, none);
+    target = std::min(target, timeEvent);
+    double root = events.handlesRoots() ? crossing.first(t, target) : target;
+    bool rootEvent = root < target;
+    if (rootEvent)
+      target = root;
+    t = target;
+    bool recorded = true;
+    for (; recorded && k_ <= nOut_ && gridTime(k_) <= t; ++k_)
+      recorded = rec.record(gridTime(k_), none, none);
+    if (!recorded)
+      return;
+    if (!rootEvent && t < timeEvent)
+      continue;
+    size_t rows = res_.rows.size();
+    if (res_.rows.back()[0] != t && !rec.record(t, none, none))
+      return;
+    EventOutcome out = events.handle(t, y, yp, !rootEvent, nothingToMove);
+    if (out == EventOutcome::Unchanged || out == EventOutcome::Restarted)
+      res_.rows.resize(rows);
+    else if (ended(out))
+      return;
+    else if (!rec.record(t, none, none))
+      return;
+  }
+  if (events.terminal(t, none, none))
+    rec.record(t, none, none);
 }
 
 void Run::carryOver(const ModelEval &ev, double t, const std::vector<double> &y,
@@ -774,7 +835,12 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   double nextEvent = 0; // the time event the integrator stops at (or later)
   auto aimAtNextEvent = [&]() {
     nextEvent = events.nextTimeEvent(t, ida.y(), ida.yp());
-    auto ok = ida.setStopTime(std::min(s_.stop, nextEvent));
+    double aim = std::min(s_.stop, nextEvent);
+    // A relation whose root function is zero here changes just after t,
+    // unseen by the root finder: stop there to see it (RootWatch.h).
+    if (events.handlesRoots())
+      aim = std::min(aim, watch.stopAheadOfZero(t));
+    auto ok = ida.setStopTime(aim);
     if (!ok)
       res_.failure = describeSolverError(t, ok.error());
     return bool(ok);
@@ -895,9 +961,14 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         return done(StageEnd::Done);
       if (out != EventOutcome::Unchanged)
         watch.restarted(t, y.data(), yp.data());
-      if ((timeEvent || out != EventOutcome::Unchanged) && !aimAtNextEvent())
+      if ((st.kind == StepStatus::StopReached ||
+           out != EventOutcome::Unchanged) &&
+          !aimAtNextEvent())
         return done(StageEnd::Done);
       stepsSinceOutput = 0;
+    } else if (st.kind == StepStatus::StopReached && t < s_.stop &&
+               !aimAtNextEvent()) {
+      return done(StageEnd::Done); // stopped just after a zero (RootWatch)
     }
     if (t >= s_.stop || (!o_.everyStep && k_ > nOut_))
       break;
