@@ -351,7 +351,9 @@ void ManifoldSampler::scaling(const SamplePoint &p, size_t count,
     J.resize(0, 0);
     return;
   }
-  for (Eigen::Index c = 0; c < J.rows(); ++c) {
+  // No coordinates (a model whose equations read parameters only): no
+  // row has a largest entry to scale by.
+  for (Eigen::Index c = 0; n > 0 && c < J.rows(); ++c) {
     double w = (J.row(c).cwiseAbs().cwiseProduct(D.transpose())).maxCoeff();
     weight[c] = w > 1e-300 ? w : 1.0;
   }

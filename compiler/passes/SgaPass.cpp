@@ -13,6 +13,7 @@
 #include "passes/Results.h"
 #include "passes/Sga.h"
 
+#include "ir/Evaluate.h"
 #include "ir/Print.h"
 #include "ir/Query.h"
 
@@ -147,6 +148,34 @@ bool checkFixedOnPoint(PassContext &ctx, const SgaResult &r) {
   return true;
 }
 
+/// A model with no unknowns (`0 = 1`, `der(p) = p` of a parameter, a size
+/// parameter set to 0) has no manifold to sample: each equation holds at
+/// the parameter values or the model has no solution.
+bool equationsWithoutUnknownsHold(PassContext &ctx, SgaResult &out) {
+  ir::Model &m = ctx.model;
+  ir::EvalEnv env = ctx.startEnv();
+  std::vector<int> all;
+  for (size_t e = 0; e < m.equations.size(); ++e) {
+    all.push_back(static_cast<int>(e));
+    Expected<double> r = ir::evaluate(m.equations[e].residual, env, &m);
+    if (r && std::fabs(*r) <= 1e-12)
+      continue;
+    ctx.diags.report(DiagId::ErrSgaNoSolution, m.equations[e].loc,
+                     {ir::printLsd(m.equations[e].residual, &m),
+                      describeEquations(ctx, {all.back()})});
+    return false;
+  }
+  out.skipped = "the model has no unknowns";
+  if (!all.empty()) {
+    Diagnostic &d = ctx.diags.report(
+        DiagId::WarnSgaRedundant, m.equations.front().loc,
+        {describeEquations(ctx, all), all.size() == 1 ? "it" : "them"});
+    noteEquations(ctx, d, all);
+    dropEquations(m, out, all);
+  }
+  return true;
+}
+
 class SgaPass : public TypedPass<SgaPass, Reads<>, Updates<>,
                                  Produces<SgaResult, ir::DaeSystem>> {
 public:
@@ -159,6 +188,8 @@ private:
 
 bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
   out.input = sgaInput(ctx.model);
+  if (out.input.unknowns.empty())
+    return equationsWithoutUnknownsHold(ctx, out);
   size_t slots = 0;
   for (int o : out.input.originalOrder)
     slots += static_cast<size_t>(std::max(1, o));
