@@ -2,8 +2,11 @@
 """Reference values for the conformance suite that are not read from a .mos
 file: closed forms (each with its formula) and SciPy solve_ivp solutions.
 None of them uses ldaec. `python3 reference.py` prints them all; the values
-in manifest.json were computed by these functions."""
+in manifest.json were computed by these functions (SciPy is needed only for
+switched_rlc, and only to recompute; run.py needs no SciPy)."""
 import math
+
+G = 9.81
 
 
 def piecewise_linear(t):
@@ -18,6 +21,112 @@ def piecewise_linear(t):
     return x, y, 1 - 3 * x - y
 
 
+def bouncing_ball(t, h0=1.0, e=0.8):
+    """ModelicaByExample BouncingBall: free fall from h0 at rest,
+    h'' = -g; at h = 0 the velocity becomes -e times the impact velocity.
+    Flight k starts at t_k with upward speed u_k: h = u_k s - g s^2/2,
+    lasting 2 u_k / g; the first impact at sqrt(2 h0 / g) with speed
+    g sqrt(2 h0 / g). Returns (h, v) for t before the Zeno point."""
+    t1 = math.sqrt(2 * h0 / G)
+    if t < t1:
+        return h0 - G * t * t / 2, -G * t
+    tk, u = t1, e * G * t1
+    while t >= tk + 2 * u / G:
+        tk += 2 * u / G
+        u *= e
+    s = t - tk
+    return u * s - G * s * s / 2, u - G * s
+
+
+def hysteresis(t, C=1.0, h=2.0, Q=25.0, Tamb=285.0, Tbar=295.0):
+    """ModelicaByExample HysteresisControl: C T' = Q_on - h (T - Tamb),
+    T(0) = Tbar + 5, heater off. Off: T relaxes to Tamb until T < Tbar - 1;
+    on: to Tamb + Q/h until T > Tbar + 1. Each phase is
+    T = Tend + (T0 - Tend) exp(-h s / C), and the phase lasts
+    C/h ln((T0 - Tend)/(Tswitch - Tend))."""
+    T0, heat, tk = Tbar + 5, False, 0.0
+    while True:
+        Tend = Tamb + (Q / h if heat else 0.0)
+        Tsw = Tbar + 1 if heat else Tbar - 1
+        dur = C / h * math.log((T0 - Tend) / (Tsw - Tend))
+        if t < tk + dur:
+            return Tend + (T0 - Tend) * math.exp(-h * (t - tk) / C), heat
+        tk += dur
+        T0, heat = Tsw, not heat
+
+
+def cooling_steady_then_dynamic(t, h=0.7, A=1.0, m=0.1, c_p=1.2):
+    """ModelicaByExample NewtonCoolingSteadyThenDynamic: steady start
+    T = 298.15; for s = t - 0.5 > 0, T_inf = 298.15 - 20 s and with
+    k = hA/(m c_p), e = T - T_inf obeys e' = -k e + 20, e(0) = 0:
+    T = 298.15 - 20 s + (20/k)(1 - exp(-k s))."""
+    k = h * A / (m * c_p)
+    s = max(0.0, t - 0.5)
+    return 298.15 - 20 * s + (20 / k) * (1 - math.exp(-k * s))
+
+
+def switched_rlc(ts, Vb=24.0, L=1.0, R=100.0, C=1e-3):
+    """ModelicaByExample SwitchedRLC: everything 0 until the switch at
+    t = 0.5, then L i_L' = Vb - V, C V' = i_L - V/R; SciPy solve_ivp
+    (Radau, rtol 1e-12, atol 1e-12) from the state (V, i_L) = (0, 0) at
+    t = 0.5. Returns {t: (V, i_L)}."""
+    from scipy.integrate import solve_ivp
+
+    def f(_t, y):
+        V, iL = y
+        return [(iL - V / R) / C, (Vb - V) / L]
+
+    out = {}
+    for t in ts:
+        if t <= 0.5:
+            out[t] = (0.0, 0.0)
+            continue
+        sol = solve_ivp(f, (0.5, t), [0.0, 0.0], method="Radau", rtol=1e-12, atol=1e-12)
+        out[t] = (float(sol.y[0, -1]), float(sol.y[1, -1]))
+    return out
+
+
+def _ivp(f, y0, ts, t0=0.0):
+    """SciPy solve_ivp (Radau, rtol = atol = 1e-12) from t0; the state at each
+    of ts."""
+    from scipy.integrate import solve_ivp
+    sol = solve_ivp(f, (t0, max(ts)), y0, method="Radau", rtol=1e-12, atol=1e-12,
+                    t_eval=sorted(ts), dense_output=False)
+    return {t: [float(v) for v in sol.y[:, i]] for i, t in enumerate(sorted(ts))}
+
+
+def lotka_volterra(ts, alpha=0.1, beta=0.02, gamma=0.4, delta=0.02, x0=10.0, y0=10.0):
+    """ModelicaByExample ClassicModel: x' = x (alpha - beta y),
+    y' = y (delta x - gamma) from the start values (10, 10)."""
+    return _ivp(lambda t, u: [u[0] * (alpha - beta * u[1]), u[1] * (delta * u[0] - gamma)], [x0, y0], ts)
+
+
+def second_order_system(ts, J1=0.4, J2=1.0, c1=11.0, c2=5.0, d1=0.2, d2=1.0):
+    """ModelicaByExample RotationalSMD.SecondOrderSystem, state
+    (phi1, phi2, omega1, omega2) from (0, 1, 0, 0)."""
+    def f(t, u):
+        p1, p2, w1, w2 = u
+        return [w1, w2, (c1 * (p2 - p1) + d1 * (w2 - w1)) / J1,
+                (c1 * (p1 - p2) + d1 * (w1 - w2) - c2 * p2 - d2 * w2) / J2]
+    return _ivp(f, [0.0, 1.0, 0.0, 0.0], ts)
+
+
+def rlc1(ts, Vb=24.0, L=1.0, R=100.0, C=1e-3):
+    """ModelicaByExample RLC1: C V' = i_L - V/R, L i_L' = Vb - V from the
+    start values V = i_L = 0 (no initial equations: the defaults)."""
+    return _ivp(lambda t, u: [(u[1] - u[0] / R) / C, (Vb - u[0]) / L], [0.0, 0.0], ts)
+
+
 if __name__ == "__main__":
     for t in (0.1, 1.0, 4.0, 6.0):
         print("piecewise_linear", t, piecewise_linear(t))
+    for t in (0.3, 1.0, 2.0, 2.9):
+        print("bouncing_ball", t, bouncing_ball(t))
+    for t in (0.2, 0.5, 1.0, 2.0, 3.0):
+        print("hysteresis", t, hysteresis(t))
+    for t in (0.25, 0.75, 1.5):
+        print("cooling_steady_then_dynamic", t, cooling_steady_then_dynamic(t))
+    print("switched_rlc", switched_rlc([0.25, 0.6, 1.0, 2.0]))
+    print("lotka_volterra", lotka_volterra([5.0, 10.0, 20.0]))
+    print("second_order_system", second_order_system([0.5, 1.0, 3.0]))
+    print("rlc1", rlc1([0.05, 0.2, 1.0]))
