@@ -74,7 +74,11 @@ bool buildSgaSystem(PassContext &pc, const SgaResult &sga, bool project,
       u.name = m.variableName(ir::VarKey{v, k});
       u.differential = true;
       u.start = k == 0 ? var.start : 0.0;
-      if (k == 0 && !var.hasStart && sys.unknowns.size() < sga.startGuess.size())
+      // A guess only where the model gives no value: `x(fixed = true)`
+      // without a start fixes x at the default start 0 (OpenModelica's
+      // ASSC test started at the sampler's x = 10).
+      if (k == 0 && !var.hasStart && !var.fixed &&
+          sys.unknowns.size() < sga.startGuess.size())
         u.start = sga.startGuess[sys.unknowns.size()];
       u.startBinding = k == 0 ? var.startBinding : nullptr;
       u.nominal = var.nominal;

@@ -4,7 +4,7 @@
 Every .lsd file of the repository (examples/, tests/, stdlib/) is corrupted
 with token-aware mutations and each mutant is run through every stage of the
 `ldaec` command (flat, analysis, simulation, C and LLVM emission) under a
-memory cap and a timeout. A stage run fails on a signal, an abort text, a
+memory cap and a CPU-time limit. A stage run fails on a signal, an abort text, a
 hang, an exit code outside 0..3, or a model error (exit 1) with no
 `file:line:col: error:` line. Mutant k depends only on (seed, k), so a
 failure is reproduced by the same --seed and --count, whatever --jobs is.
@@ -15,12 +15,14 @@ Usage (see docs/hardening.md):
 """
 
 import argparse
+import math
 import collections
 import multiprocessing
 import os
 import random
 import re
 import resource
+import signal
 import subprocess
 import sys
 import time
@@ -294,17 +296,30 @@ def corpus_text(corpus, origin):
     return ""
 
 
-def limit_memory(mem_bytes):
+def limit_resources(mem_bytes, cpu_seconds):
+    """A stage run's limits: memory (0: none) and CPU time. CPU time, not
+    wall time, decides a hang: on a machine busy with other work a stage
+    run waits for a core without using its limit (mutant 341, w = 1e7 for
+    0.1 s, 4.2 s of CPU, timed out at 10 s of wall time beside a build)."""
     def apply():
-        resource.setrlimit(resource.RLIMIT_AS, (mem_bytes, mem_bytes))
+        if mem_bytes:
+            resource.setrlimit(resource.RLIMIT_AS, (mem_bytes, mem_bytes))
         resource.setrlimit(resource.RLIMIT_CORE, (0, 0))
+        cpu = int(math.ceil(cpu_seconds))
+        resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 5))
     return apply
+
+
+def wall_backstop(cpu_seconds):
+    """Wall time after which a stage run that uses no CPU (blocked on a
+    read) counts as hung: far beyond any wait for a core."""
+    return max(300.0, 30 * cpu_seconds)
 
 
 def classify(rc, stderr, timed_out):
     """The failure kind of one stage run, or None when it ended properly."""
-    if timed_out:
-        return "hang"
+    if timed_out or rc == -signal.SIGXCPU or rc == -signal.SIGKILL:
+        return "hang"  # the CPU-time limit (SIGXCPU, then SIGKILL)
     if rc < 0:
         return "crash"
     for text in ABORT_TEXTS:
@@ -353,14 +368,15 @@ def run_mutant(k):
             cmd += ["--model", model]
         if stage == "simulate":
             cmd += ["--jit", "on" if k % 4 == 3 else "off"]
-        preexec = limit_memory(cfg["mem_bytes"]) if cfg["mem_bytes"] else None
+        preexec = limit_resources(cfg["mem_bytes"], cfg["timeout"])
         timed_out = False
         start = time.monotonic()
         try:
             proc = subprocess.run(cmd, stdin=subprocess.DEVNULL,
                                   stdout=subprocess.DEVNULL,
                                   stderr=subprocess.PIPE,
-                                  timeout=cfg["timeout"], preexec_fn=preexec)
+                                  timeout=wall_backstop(cfg["timeout"]),
+                                  preexec_fn=preexec)
             rc, err = proc.returncode, proc.stderr
         except subprocess.TimeoutExpired as e:
             rc, err, timed_out = None, e.stderr or b"", True
@@ -388,7 +404,7 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=10.0,
-                    help="seconds per stage run")
+                    help="CPU seconds per stage run")
     ap.add_argument("--mem-gb", type=float, default=3.0,
                     help="address-space cap per stage run (0: none; "
                     "sanitizer builds need 0)")

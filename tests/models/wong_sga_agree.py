@@ -18,6 +18,7 @@ Usage: wong_sga_agree.py LDAEC. Standard library only.
 import glob
 import json
 import os
+import resource
 import subprocess
 import sys
 
@@ -26,11 +27,20 @@ from check_e2e import ROOT, check, finish
 MIN_MODELS = 60
 
 
+def cpu_limit(seconds):
+    def apply():
+        resource.setrlimit(resource.RLIMIT_CPU, (seconds, seconds + 5))
+    return apply
+
+
 def verdicts(ldaec, path):
     """The --analyze --json reports of the models in `path` (none when the
     file is not meant to analyze: a syntax error test, a library)."""
+    # A CPU-time limit, not a wall-time one: out_of_memory.lsd's 400,000
+    # unknowns take 18 s idle and over 60 s of wall time on a busy machine.
     proc = subprocess.run([ldaec, path, "--analyze", "--json"],
-                          capture_output=True, text=True, timeout=60)
+                          capture_output=True, text=True,
+                          preexec_fn=cpu_limit(120))
     try:
         doc = json.loads(proc.stdout)
     except ValueError:
