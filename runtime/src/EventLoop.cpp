@@ -80,6 +80,14 @@ bool EventLoop::sampleInstant(int s, double t, const double *y,
   return std::fabs(s0 + k * iv - t) <= 4e-16 * std::max(1.0, std::fabs(t));
 }
 
+bool EventLoop::sampleInstantAt(double t, const double *y,
+                                const double *yp) const {
+  for (int s = 0; active() && s < m_.n_samples; ++s)
+    if (sampleInstant(s, t, y, yp))
+      return true;
+  return false;
+}
+
 bool EventLoop::update(double t, const double *y, const double *yp) {
   if (!m_.event_update ||
       m_.event_update(t, y, yp, ev_.params(), out_.data()) != 0)

@@ -48,6 +48,10 @@ public:
   /// Whether root j is a relation's zero crossing handled here.
   bool handlesRoots() const { return active() && m_.root_relation; }
 
+  /// Whether a sample has an instant at t: at the start time, the event
+  /// right after the initial event (where only when-clauses with initial()
+  /// fired), as OpenModelica and Dymola run it.
+  bool sampleInstantAt(double t, const double *y, const double *yp) const;
   /// The first time event strictly after t, or +infinity.
   double nextTimeEvent(double t, const double *y, const double *yp) const;
 

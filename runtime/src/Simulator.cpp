@@ -615,6 +615,12 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
   if (ended(events.initial(t, y, yp, nothingToMove)) ||
       !rec.record(t, none, none) || !(s_.stop > s_.start))
     return;
+  if (events.sampleInstantAt(t, none, none)) { // as in stage()
+    EventOutcome out = events.handle(t, y, yp, true, nothingToMove);
+    if (out != EventOutcome::Unchanged && out != EventOutcome::Restarted &&
+        (ended(out) || !rec.record(t, none, none)))
+      return;
+  }
   TimeRoots crossing(ev);
   while (t < s_.stop) {
     double target = k_ <= nOut_ ? gridTime(k_) : s_.stop;
@@ -825,6 +831,17 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     return done(*end);
   if (!rec.record(t, y.data(), yp.data()) || span <= 0)
     return done(StageEnd::Done);
+  // A sample at the start time fires in an event of its own right after
+  // the initial event: `when sample(0, 0.1)` counts at t = 0.
+  if (fromStart && events.sampleInstantAt(t, y.data(), yp.data())) {
+    EventOutcome out = events.handle(t, y, yp, /*timeEvent=*/true, reinit);
+    if (out != EventOutcome::Unchanged && out != EventOutcome::Restarted) {
+      if (auto end = concluded(out))
+        return done(*end);
+      if (!rec.record(t, y.data(), yp.data()))
+        return done(StageEnd::Done);
+    }
+  }
   watch.restarted(t, y.data(), yp.data());
 
   // The integrator steps freely up to the stop time or the next time
@@ -970,7 +987,10 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
                !aimAtNextEvent()) {
       return done(StageEnd::Done); // stopped just after a zero (RootWatch)
     }
-    if (t >= s_.stop || (!o_.everyStep && k_ > nOut_))
+    // On to the stop time also past the last of --output-times: the
+    // last row is the stop time's, from the integrator there (it was
+    // interpolated from a step that an event had cut short of it).
+    if (t >= s_.stop)
       break;
     if (m.n_state_sets > 1) {
       cond = pivotConditions(ev, t, ida.y(), ida.yp());
