@@ -149,6 +149,7 @@ private:
   ir::ExprRef risen(size_t clause);
   ir::ExprRef fired(size_t clause);
   bool buildUpdate();
+  bool checkWhenLoops();
   bool buildTimeEvents();
   void chooseMode();
   ir::ExprRef cur(size_t k) { return ctx_.param(out_.current(k)); }
@@ -450,6 +451,75 @@ ir::ExprRef EventBuilder::fired(size_t clause) {
   return f;
 }
 
+/// A when-equation `v = e` is evaluated from the continuous point before
+/// the event and the continuous values are then solved with the new v; an
+/// e that reads an algebraic value which the continuous equations
+/// determine from v itself (OpenModelica's bug1228: `when ... then y = 7 -
+/// 2*x + time`, `x + y = 5`) would need both solved together, which the
+/// event iteration does not: refused at the when-equation, never a wrong
+/// value. States are known at an event; the dependence follows a matching
+/// of the continuous equations to the other unknowns.
+bool EventBuilder::checkWhenLoops() {
+  // The unknowns an event solves: every continuous key but the states
+  // (variables whose derivative the equations read).
+  std::vector<bool> state(m_.variables.size(), false);
+  for (const ir::Equation &e : continuous_)
+    for (ir::VarKey k : ir::freeVariables(e.residual))
+      if (k.order > 0)
+        state[k.var] = true;
+  std::map<ir::VarKey, int> column;
+  std::vector<ir::VarKey> keys;
+  std::vector<std::vector<ir::VarKey>> reads(continuous_.size());
+  for (size_t e = 0; e < continuous_.size(); ++e)
+    for (ir::VarKey k : ir::freeVariables(continuous_[e].residual)) {
+      reads[e].push_back(k);
+      if (discrete_[k.var] || (k.order == 0 && state[k.var]) ||
+          column.count(k))
+        continue;
+      column[k] = static_cast<int>(keys.size());
+      keys.push_back(k);
+    }
+  graph::BipartiteGraph g(static_cast<int>(continuous_.size()),
+                          static_cast<int>(keys.size()));
+  for (size_t e = 0; e < continuous_.size(); ++e)
+    for (ir::VarKey k : reads[e])
+      if (auto it = column.find(k); it != column.end())
+        g.rows[e].push_back(it->second);
+  graph::Matching mt = graph::maximumMatching(g);
+  // What each key determines: the unknown of every equation reading it.
+  std::map<ir::VarKey, std::vector<ir::VarKey>> feeds;
+  for (size_t e = 0; e < continuous_.size(); ++e) {
+    if (mt.rowMate[e] < 0)
+      continue;
+    ir::VarKey solved = keys[static_cast<size_t>(mt.rowMate[e])];
+    for (ir::VarKey k : reads[e])
+      if (!(k == solved))
+        feeds[k].push_back(solved);
+  }
+  for (const ir::WhenClause &w : m_.whenClauses)
+    for (size_t a = 0; a < w.targets.size(); ++a) {
+      ir::VarKey target{w.targets[a]->var(), 0};
+      std::set<ir::VarKey> reached;
+      std::vector<ir::VarKey> todo{target};
+      while (!todo.empty()) {
+        ir::VarKey k = todo.back();
+        todo.pop_back();
+        for (ir::VarKey u : feeds[k])
+          if (reached.insert(u).second)
+            todo.push_back(u);
+      }
+      for (ir::VarKey k : ir::freeVariables(w.equations[a].residual)) {
+        if (!reached.count(k))
+          continue;
+        pc_.diags.report(DiagId::ErrWhenAlgebraicLoop, w.equations[a].loc,
+                         {w.equations[a].text, m_.variableName(k),
+                          m_.variables[target.var].name});
+        return false;
+      }
+    }
+  return true;
+}
+
 bool EventBuilder::buildUpdate() {
   const size_t K = slots_.size();
   defSubst_ = std::make_unique<ir::Substitution>(ctx_);
@@ -702,7 +772,7 @@ bool EventBuilder::run() {
       sc.set(ctx_.pre(s.var), pre(k));
     }
   }
-  bool ok = buildUpdate();
+  bool ok = checkWhenLoops() && buildUpdate();
   ok = buildTimeEvents() && ok;
   for (ir::Equation &e : continuous_)
     e.residual = sc.apply(e.residual);
