@@ -825,7 +825,34 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     return StageEnd::Done;
   };
 
-  EventOutcome first = fromStart ? events.initial(t, y, yp, reinit)
+  // At the initial event a discrete value that changes changes the
+  // initialization problem itself (OpenModelica's eventTest2: `d = if a >
+  // 1 then 1 else 2` with `initial equation a + d = 0`): it is solved
+  // again from the start values with the new discrete values, so the
+  // initial equations and fixed starts still hold. Fired reinits (held
+  // values) follow the event's rule.
+  Reinitialize reinitialize =
+      [&](double te, std::vector<double> &ye, std::vector<double> &ype,
+          const std::vector<int> &held, std::string &failure) {
+        if (!held.empty())
+          return reinit(te, ye, ype, held, failure);
+        std::vector<double> y0(m.start_y, m.start_y + n),
+            yp0(m.start_yp, m.start_yp + n);
+        if (auto re = ida.reinit(ida.set(), te, y0.data(), yp0.data()); !re) {
+          failure = describeSolverError(te, re.error());
+          return false;
+        }
+        SimResult again;
+        if (!initializeFrom(ev, ida, ida.set(), te, firstOutput(te), y0, yp0,
+                            again, o_.log)) {
+          failure = again.failure;
+          return false;
+        }
+        ye.assign(ida.y(), ida.y() + n);
+        ype.assign(ida.yp(), ida.yp() + n);
+        return true;
+      };
+  EventOutcome first = fromStart ? events.initial(t, y, yp, reinitialize)
                                  : events.resume(t, y, yp, reinit);
   if (auto end = concluded(first))
     return done(*end);
