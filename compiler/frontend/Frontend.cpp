@@ -108,6 +108,8 @@ std::unique_ptr<ir::Model> compileFileId(uint32_t id, const FrontendOptions &opt
   std::unique_ptr<ir::Model> model = flattener.flatten(*cls);
   if (model && !checkDiscreteDerivatives(*model, diags))
     return nullptr;
+  if (model)
+    startFromInitialEquations(*model);
   return model;
 }
 

@@ -52,6 +52,10 @@ std::unique_ptr<ir::Model> compileSource(const std::string &path,
 /// with the variable's declaration as a note. Returns false if any.
 bool checkDiscreteDerivatives(const ir::Model &model, DiagnosticEngine &diags);
 
+/// An unknown without a start value that an initial equation gives a
+/// value (linear in it, reading parameters only) starts at that value.
+void startFromInitialEquations(ir::Model &model);
+
 /// Equation/unknown count check: a warning saying how many of each and
 /// which components they come from (the geometric algorithm gives the
 /// verdict, docs/sga.md). Returns true if balanced.

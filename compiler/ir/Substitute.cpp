@@ -89,4 +89,19 @@ ExprRef Substitution::apply(ExprRef e) {
   return *memo_.find(e);
 }
 
+/// `r = 0` solved for variable v when r is linear in it with a constant
+/// coefficient (`on - (s < 0)`, `2 * n - m`); null otherwise.
+ExprRef solveLinear(ExprContext &ctx, ExprRef r, VarId v) {
+  auto at = [&](double x) {
+    Substitution s(ctx);
+    s.set(ctx.var(v), ctx.constant(x));
+    return s.apply(r);
+  };
+  ExprRef r0 = at(0), a = ctx.sub(at(1), r0);
+  if (!a->isConstant() || a->isConstant(0) ||
+      ctx.sub(at(2), r0) != ctx.mul(ctx.constant(2), a))
+    return nullptr;
+  return ctx.div(ctx.neg(r0), a);
+}
+
 } // namespace ldae::ir

@@ -30,6 +30,10 @@ private:
 /// `e` with every relation marked noEvent (Expr::noEvent): `noEvent(e)`.
 ExprRef withNoEvent(ExprContext &ctx, ExprRef e);
 
+/// `r = 0` solved for variable v when r is linear in it with a constant
+/// coefficient (`on - (s < 0)`, `2 * n - m`); null otherwise.
+ExprRef solveLinear(ExprContext &ctx, ExprRef r, VarId v);
+
 /// Rebuilds `e` with new operands (same kind, function, comparison...).
 ExprRef rebuild(ExprContext &ctx, ExprRef e, std::span<const ExprRef> ops);
 

@@ -81,21 +81,6 @@ ir::CompareKind mirrored(ir::CompareKind c) {
   }
 }
 
-/// `r = 0` solved for variable v when r is linear in it with a constant
-/// coefficient (`on - (s < 0)`, `2 * n - m`); null otherwise.
-ir::ExprRef solveLinear(ir::ExprContext &ctx, ir::ExprRef r, ir::VarId v) {
-  auto at = [&](double x) {
-    ir::Substitution s(ctx);
-    s.set(ctx.var(v), ctx.constant(x));
-    return s.apply(r);
-  };
-  ir::ExprRef r0 = at(0), a = ctx.sub(at(1), r0);
-  if (!a->isConstant() || a->isConstant(0) ||
-      ctx.sub(at(2), r0) != ctx.mul(ctx.constant(2), a))
-    return nullptr;
-  return ctx.div(ctx.neg(r0), a);
-}
-
 /// The slots in an order where each comes after those it reads (except
 /// the reads in `current`), in `order`; or, where there is none, a cycle
 /// (its first slot repeated at its end).
@@ -191,7 +176,7 @@ void EventBuilder::initialDiscreteValues() {
             m_.variables[k.var].input != ir::EventInput::None ||
             !discrete_[k.var])
           continue;
-        ir::ExprRef value = solveLinear(ctx_, e.residual, k.var);
+        ir::ExprRef value = ir::solveLinear(ctx_, e.residual, k.var);
         if (!value)
           continue;
         ir::EvalEnv env = pc_.startEnv();
@@ -372,7 +357,7 @@ bool EventBuilder::defineVariables(std::vector<ir::ExprRef> &value) {
       auto it = column.find(k.var);
       if (k.order != 0 || it == column.end())
         continue;
-      ir::ExprRef value = solveLinear(ctx_, r, k.var);
+      ir::ExprRef value = ir::solveLinear(ctx_, r, k.var);
       if (!value)
         continue;
       solved[e][it->second] = value;
