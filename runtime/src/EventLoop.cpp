@@ -475,6 +475,22 @@ EventOutcome EventLoop::resume(double t, std::vector<double> &y,
              : out;
 }
 
+EventOutcome EventLoop::comeToRest(double t, std::vector<double> &y,
+                                   std::vector<double> &yp) {
+  if (!active())
+    return EventOutcome::Unchanged;
+  std::copy(ev_.discrete(), ev_.discrete() + nd_, ev_.pre());
+  recent_.clear();
+  // The point is held: nothing to re-initialize (a fired reinit writes its
+  // value, which is the limit the series tends to).
+  Reinitialize held = [](double, std::vector<double> &, std::vector<double> &,
+                         const std::vector<int> &,
+                         std::string &) { return true; };
+  EventOutcome out = iterate(t, y, yp, held);
+  recent_.clear();
+  return out;
+}
+
 bool EventLoop::terminal(double t, const double *y, const double *yp) {
   if (!active())
     return false;

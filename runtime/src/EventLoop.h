@@ -68,6 +68,13 @@ public:
   /// the new mode's model (its discrete values carried over).
   EventOutcome resume(double t, std::vector<double> &y, std::vector<double> &yp,
                       const Reinitialize &reinit);
+  /// After AtRest: the event iteration at the state held at rest (the
+  /// reinit targets at their limit 0, y' = 0), so that the discrete values
+  /// the model computes from it follow (a `flying` flag false, a
+  /// `v_new` 0); no accumulation is looked for. Failed (with the message)
+  /// when it does not settle.
+  EventOutcome comeToRest(double t, std::vector<double> &y,
+                          std::vector<double> &yp);
   /// The terminal event at the end of the run (terminal() = 1, one update).
   /// True when it changed a discrete value.
   bool terminal(double t, const double *y, const double *yp);

@@ -811,6 +811,10 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       if (o_.log)
         *o_.log << events.message() << "\n";
       std::vector<double> still(n, 0.0);
+      if (events.comeToRest(t, y, still) == EventOutcome::Failed) {
+        res_.failure = events.message();
+        return StageEnd::Done;
+      }
       bool recorded = rec.record(t, y.data(), still.data());
       for (; recorded && k_ <= nOut_; ++k_)
         if (gridTime(k_) > t)
