@@ -170,6 +170,21 @@ def robertson_ref(ldaec):
                 for n in ("y1", "y2", "y3"))
     check(worst <= 5e-4, "4 significant digits: relative error <= 5e-4 "
           "(max %.2e)" % worst)
+    # The example as shipped, at its own Tolerance (1e-4) and default atol:
+    # its nominal values must hold y1 down to 5e-8 (with nominal 1 it went
+    # negative, y1 = -7.8e-7 at 4e10, and was 32% off at 8e7).
+    _, rows, _ = run(ldaec, [
+        os.path.join(ROOT, "examples", "robertson.lsd"), "--simulate",
+        "--output-times", times])
+    rows = rows[1:]
+    same_times(rows, ref)
+    worst = max(abs(r[n] - q[n]) / abs(q[n]) for r, q in zip(rows, ref)
+                for n in ("y1", "y2", "y3"))
+    check(worst <= 2e-3, "at its own tolerance: relative error <= 2e-3 "
+          "(max %.2e)" % worst)
+    lowest = min(r[n] for r in rows for n in ("y1", "y2", "y3"))
+    check(lowest > 0, "at its own tolerance: no value negative (min %.3g)"
+          % lowest)
 
 
 # 3. The variable-length pendulum of seed 001 section 7.
