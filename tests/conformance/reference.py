@@ -117,6 +117,110 @@ def rlc1(ts, Vb=24.0, L=1.0, R=100.0, C=1e-3):
     return _ivp(lambda t, u: [(u[1] - u[0] / R) / C, (Vb - u[0]) / L], [0.0, 0.0], ts)
 
 
+def newton_cooling_dynamic(t, T0=363.15, h=0.7, A=1.0, m=0.1, c_p=1.2):
+    """ModelicaByExample NewtonCoolingDynamic: T(0) = T0, k = hA/(m c_p);
+    T = 298.15 + (T0 - 298.15) exp(-k t) for t <= 0.5; after, with
+    s = t - 0.5, T_inf = 298.15 - 20 s and e = T - T_inf obeys
+    e' = -k e + 20 from e0 = (T0 - 298.15) exp(-k/2):
+    T = 298.15 - 20 s + (20/k)(1 - exp(-k s)) + e0 exp(-k s)."""
+    k = h * A / (m * c_p)
+    if t <= 0.5:
+        return 298.15 + (T0 - 298.15) * math.exp(-k * t)
+    s = t - 0.5
+    e0 = (T0 - 298.15) * math.exp(-0.5 * k)
+    return 298.15 - 20 * s + (20 / k) * (1 - math.exp(-k * s)) + e0 * math.exp(-k * s)
+
+
+def decay(t):
+    """ModelicaByExample Decay1, Decay2: x' = -sqrt(x), x(0) = 1:
+    x = (1 - t/2)^2 for t <= 2."""
+    return (1 - t / 2) ** 2
+
+
+def chattering_events2(t):
+    """OpenModelica ChatteringPackage ChatteringEvents2: w' = 1 - w,
+    w(0) = 0: w = 1 - exp(-t); while x > 0, x' = 2(-1 - w) = -4 + 2 exp(-t),
+    x(0) = 1: x = 3 - 4t - 2 exp(-t), zero at t* = 0.42219...; after t*
+    the Filippov solution slides on x = 0 (|w| < 1)."""
+    x = 3 - 4 * t - 2 * math.exp(-t)
+    return max(x, 0.0), 1 - math.exp(-t)
+
+
+def reset_exponential(t, h=0.2, a=2.0):
+    """OpenModelica TestNoEventsFlags (testnoEventsFlag): x' = 2x,
+    reinit(x, 1) at every sample(0, 0.2): x = exp(2 (t - t_k)) with t_k the
+    last sample instant; b = x > 1.2, b1 = 2x > 2.5."""
+    s = t - h * math.floor(t / h + 1e-12)
+    x = math.exp(a * s)
+    return x, x > 1.2, a * x > 2.5
+
+
+def sample_and_hold(ts, h=0.125):
+    """ModelicaByExample SpeedMeasurement.SampleAndHold: omega1_measured is
+    omega1 of second_order_system at the last sample instant k h (k = 0, 1,
+    ...; sample(0, h) fires at the start)."""
+    inst = sorted({h * math.floor(t / h + 1e-12) for t in ts})
+    sol = second_order_system([t for t in inst if t > 0] or [h])
+    out = {}
+    for t in ts:
+        tk = h * math.floor(t / h + 1e-12)
+        out[t] = 0.0 if tk == 0 else sol[tk][2]
+    return out
+
+
+def interval_measure(ts, teeth=200):
+    """ModelicaByExample SpeedMeasurement.IntervalMeasure on
+    second_order_system: a tooth event when phi1 reaches the last tooth level
+    L plus or minus tooth_angle = 2*3.14159/teeth (L = phi1(0) = 0 at the
+    start, then the phi1 of the event); omega1_measured = tooth_angle / (the
+    time since the previous event, or since the start). SciPy solve_ivp
+    (Radau, rtol = atol = 1e-12) with event location. Returns
+    {t: omega1_measured after the last event before t} (0 before the
+    first: the default start)."""
+    from scipy.integrate import solve_ivp
+    J1, J2, c1, c2, d1, d2 = 0.4, 1.0, 11.0, 5.0, 0.2, 1.0
+    ta = 2 * 3.14159 / teeth
+
+    def f(t, u):
+        p1, p2, w1, w2 = u
+        return [w1, w2, (c1 * (p2 - p1) + d1 * (w2 - w1)) / J1,
+                (c1 * (p1 - p2) + d1 * (w1 - w2) - c2 * p2 - d2 * w2) / J2]
+    t0, u, L, last, meas = 0.0, [0.0, 1.0, 0.0, 0.0], 0.0, 0.0, 0.0
+    events = []
+    tend = max(ts)
+    while t0 < tend:
+        up = lambda t, y: y[0] - (L + ta)
+        dn = lambda t, y: y[0] - (L - ta)
+        up.terminal = dn.terminal = True
+        up.direction, dn.direction = 1, -1
+        sol = solve_ivp(f, (t0, tend), u, method="Radau", rtol=1e-12, atol=1e-12,
+                        events=[up, dn])
+        if sol.status != 1:
+            break
+        te = [e[0] for e in sol.t_events if len(e)][0]
+        u = sol.y[:, -1].tolist()
+        meas = ta / (te - last)
+        events.append((te, meas))
+        L, last, t0 = u[0], te, te
+    out = {}
+    for t in ts:
+        prior = [m for (te, m) in events if te <= t]
+        out[t] = prior[-1] if prior else 0.0
+    return out, events
+
+
+def when_reinit_sine(t):
+    """OpenModelica whenTest2: x' = 10 sin t, x(0) = 1, reinit(x, 1) when
+    x > 1.5: between resets x = x_k + 10 (cos t_k - cos t), so the k-th reset
+    is at cos t = 1 - 0.05 k (t = 0.3176, 0.4510, 0.5548, 0.6435, 0.7227,
+    0.7954, 0.8632, 0.9273) and x(t) = 1 + 10 (c_k - cos t) with c_k the
+    cosine of the last reset (1 before the first)."""
+    k = 0
+    while math.cos(t) < 1 - 0.05 * (k + 1):
+        k += 1
+    return 1 + 10 * ((1 - 0.05 * k) - math.cos(t))
+
+
 if __name__ == "__main__":
     for t in (0.1, 1.0, 4.0, 6.0):
         print("piecewise_linear", t, piecewise_linear(t))
@@ -130,3 +234,15 @@ if __name__ == "__main__":
     print("lotka_volterra", lotka_volterra([5.0, 10.0, 20.0]))
     print("second_order_system", second_order_system([0.5, 1.0, 3.0]))
     print("rlc1", rlc1([0.05, 0.2, 1.0]))
+    for t in (0.1, 0.5, 0.75, 1.0, 1.5):
+        print("newton_cooling_dynamic", t, newton_cooling_dynamic(t))
+    for t in (0.1, 0.5, 1.0, 1.5):
+        print("decay", t, decay(t))
+    for t in (0.2, 0.25, 1.0):
+        print("chattering_events2", t, chattering_events2(t))
+    for t in (0.05, 0.1, 0.15, 0.2, 0.3, 0.5, 0.7, 0.9):
+        print("reset_exponential", t, reset_exponential(t))
+    print("sample_and_hold", sample_and_hold([0.1, 0.3, 0.55, 0.9]))
+    print("interval_measure", interval_measure([0.1, 0.3, 0.5, 1.0])[0])
+    for t in (0.5, 0.9):
+        print("when_reinit_sine", t, when_reinit_sine(t))
