@@ -79,9 +79,11 @@ void Flattener::flattenBinding(InstNode &leaf) {
     e.residual = ctx().sub(ctx().var(leaf.slots[i].id), value);
     e.loc = b.loc;
     e.component = leaf.parent ? leaf.parent->path : "";
-    e.origin = ir::EquationOrigin::Binding;
+    e.origin = leaf.initialParameter ? ir::EquationOrigin::Initial
+                                     : ir::EquationOrigin::Binding;
     e.text = b.text.empty() ? leaf.decl->text : b.text;
-    model_->equations.push_back(std::move(e));
+    (leaf.initialParameter ? model_->initialEquations : model_->equations)
+        .push_back(std::move(e));
   }
 }
 

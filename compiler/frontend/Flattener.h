@@ -137,12 +137,17 @@ struct InstNode {
   std::vector<Slot> slots;
   /// Binding equation of a variable leaf (`Real e = expr`), if any.
   ModPtr binding;
+  /// `parameter Real p(fixed = false)`: an unknown constant, a variable
+  /// with der(p) = 0 whose value the initialization finds; its binding is
+  /// an initial equation.
+  bool initialParameter = false;
 
   bool isArray() const { return !dims.empty(); }
   bool isLeaf() const { return builtin != BuiltinType::None; }
   bool isParameterLike() const {
-    return variability == ast::Variability::Parameter ||
-           variability == ast::Variability::Constant;
+    return !initialParameter &&
+           (variability == ast::Variability::Parameter ||
+            variability == ast::Variability::Constant);
   }
 };
 
@@ -263,6 +268,7 @@ private:
   void elaborateComponent(InstNode &node);
   bool resolveType(InstNode &node);
   void createLeafSlots(InstNode &node);
+  bool isInitialParameter(const InstNode &node);
   void createParameter(InstNode &node, const std::string &name,
                        const ModPtr &mod);
   void createVariable(InstNode &node, const std::string &name,

@@ -524,6 +524,7 @@ void Flattener::createLeafSlots(InstNode &node) {
     count *= n;
   if (node.builtin == BuiltinType::String)
     return; // strings only document; using one in an equation is an error
+  node.initialParameter = isInitialParameter(node);
   node.slots.reserve(count);
   for (int64_t i = 0; i < count; ++i) {
     ModPtr m = node.dims.empty()
@@ -537,6 +538,31 @@ void Flattener::createLeafSlots(InstNode &node) {
   }
   if (!node.isParameterLike() && node.mod && node.mod->value)
     node.binding = node.mod;
+  if (node.initialParameter)
+    for (const Slot &slot : node.slots) {
+      // Constant in time: der(p) = 0, at the declaration.
+      ir::Equation e;
+      e.residual = ctx().var(slot.id, 1);
+      e.loc = node.decl->loc;
+      e.component = node.parent ? node.parent->path : "";
+      e.origin = ir::EquationOrigin::Binding;
+      e.text = "der(" + model_->variables[slot.id].name + ") = 0";
+      model_->equations.push_back(std::move(e));
+    }
+}
+
+bool Flattener::isInitialParameter(const InstNode &node) {
+  if (node.variability != ast::Variability::Parameter ||
+      node.builtin != BuiltinType::Real || !node.mod)
+    return false;
+  ModPtr fixed = node.mod->sub("fixed");
+  if (!fixed || !fixed->value)
+    return false;
+  std::optional<Value> v = lowerModValue(*fixed);
+  if (!v || v->isString || v->elems.size() != 1)
+    return false;
+  std::optional<double> c = constantValue(v->elems[0]);
+  return c && *c == 0;
 }
 
 namespace {
