@@ -7,6 +7,8 @@
 // derivative), ModelTestSolve. So such an unknown without a start value
 // starts at that value (its binding re-evaluated when a parameter it reads
 // changes); the initial equation stays a condition of the initialization.
+// A start that reads such unknowns (`Real w(start = a)` with `parameter
+// Real a(fixed = false)`) is evaluated from their starts after that.
 #include "frontend/Frontend.h"
 
 #include "ir/Evaluate.h"
@@ -42,6 +44,20 @@ void startFromInitialEquations(ir::Model &model) {
     v.hasStart = true;
     if (!ir::freeParameters(value).empty())
       v.startBinding = value;
+  }
+  // Start values that read other unknowns' (a parameter with fixed =
+  // false), from those just given.
+  env.variable = [&model](ir::VarKey k) {
+    return k.order == 0 ? model.variables[k.var].start : 0.0;
+  };
+  for (ir::Variable &v : model.variables) {
+    if (!v.startGuess)
+      continue;
+    Expected<double> x = ir::evaluate(v.startGuess, env, &model);
+    if (x && std::isfinite(*x)) {
+      v.start = *x;
+      v.hasStart = true;
+    }
   }
 }
 

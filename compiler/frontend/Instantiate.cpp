@@ -5,6 +5,7 @@
 // or parameters. Elaboration is on demand, so a declaration may use a
 // parameter declared after it; a real cycle is an error.
 #include "frontend/Flattener.h"
+#include "ir/Query.h"
 
 #include <cmath>
 
@@ -682,6 +683,7 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
   v.isBoolean = node.builtin == BuiltinType::Boolean;
   v.isDiscrete = v.isInteger || v.isBoolean ||
                  node.variability == ast::Variability::Discrete;
+  ir::Equation startEquation; // its residual: the start's value, if any
   if (mod) {
     auto attr = [&](const char *key,
                     ir::ExprRef *binding = nullptr) -> std::optional<double> {
@@ -692,12 +694,32 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
                           std::string("attribute '") + key + "' of '" + name + "'",
                           binding);
     };
-    if (auto s = attr("start", &v.startBinding)) {
-      v.start = *s;
-      v.hasStart = true;
-    }
     if (auto s = attr("fixed"))
       v.fixed = *s != 0;
+    ModPtr start = mod->sub("start");
+    std::optional<Value> sv;
+    if (start && start->value)
+      sv = lowerModValue(*start); // reports what does not lower
+    if (sv && !sv->isString && sv->elems.size() == 1 &&
+        !ir::freeVariables(sv->elems[0]).empty()) {
+      // `x(start = p, fixed = true)` with p a parameter the initialization
+      // finds (fixed = false): the initial equation x = p; without fixed,
+      // a guess from p's start (OpenModelica's startValue1..3).
+      if (v.fixed) {
+        startEquation.residual = sv->elems[0];
+        startEquation.loc = start->loc;
+        startEquation.origin = ir::EquationOrigin::Initial;
+        startEquation.text = name + " = " + start->text;
+      } else {
+        v.startGuess = sv->elems[0];
+      }
+      v.fixed = false;
+    } else if (sv) {
+      if (auto s = attr("start", &v.startBinding)) {
+        v.start = *s;
+        v.hasStart = true;
+      }
+    }
     if (auto s = attr("nominal"))
       v.nominal = *s;
     if (auto s = attr("min"))
@@ -722,6 +744,11 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
                               (node.parent && node.parent->isConnector));
   ir::VarId id = model_->addVariable(std::move(v));
   node.slots.push_back({false, id});
+  if (startEquation.residual) {
+    startEquation.residual = ctx().sub(ctx().var(id), startEquation.residual);
+    startEquation.component = node.parent ? node.parent->path : "";
+    model_->initialEquations.push_back(std::move(startEquation));
+  }
   if (isFlow)
     flowVars_.push_back(id);
 }

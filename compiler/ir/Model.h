@@ -40,6 +40,10 @@ struct Variable {
   /// The `start` expression when it reads parameters (null for a literal):
   /// an emitted program re-evaluates it when a parameter is changed.
   ExprRef startBinding = nullptr;
+  /// A `start` that reads unknowns (parameters with fixed = false) and is
+  /// no condition (fixed = false): a guess, evaluated from their start
+  /// values once those are known (frontend/InitialGuesses.cpp).
+  ExprRef startGuess = nullptr;
   std::string unit;
   std::string description; // the declaration's string comment, "" if none
   bool isInput = false;
