@@ -270,6 +270,10 @@ private:
   }
 };
 
+/// Above this many equations --analyze does not run Pantelides on the
+/// model as written a second time.
+constexpr size_t kMaxEquationsAsWritten = 100000;
+
 class FormalIndexPass : public TypedPass<FormalIndexPass, Reads<>, Updates<>,
                                          Produces<FormalIndexResult>> {
 public:
@@ -284,6 +288,12 @@ public:
       return true;
     }
     out = formalIndex(ctx.model);
+    // The structural index of the model as written, beside the one of the
+    // system after alias elimination (pass pantelides); bounded like the
+    // formal index's work, as a report.
+    if (ctx.model.equations.size() <= kMaxEquationsAsWritten)
+      ctx.report.structuralIndexAsWritten =
+          structuralIndexAsWritten(ctx.model);
     ctx.report.formalIndex = out.index;
     ctx.report.formalIndexNote = out.reason;
     ctx.report.formalDimensions = out.dimensions;

@@ -6,6 +6,7 @@
 // incidence of a derivative is what the symbolic layer finds.
 #include "passes/Passes.h"
 #include "passes/Results.h"
+#include "passes/Sga.h"
 #include "passes/SystemStructure.h"
 
 #include "graph/Pantelides.h"
@@ -20,6 +21,22 @@
 namespace ldae::passes {
 
 namespace {
+
+/// Pantelides on the unknowns and equations `mr` names in `m`, filling
+/// `s` (rows, highest orders, most differentiations); the status of the
+/// run.
+graph::Pantelides::Status reduce(ir::Model &m, const MatchingResult &mr,
+                                 IndexReduction &s);
+
+/// Pryce's structural index of what `s` found: the most differentiations,
+/// plus one when an unknown stays algebraic (it needs one more to become
+/// an ODE).
+int structuralIndex(const IndexReduction &s) {
+  bool anyAlgebraic = false;
+  for (int h : s.highest)
+    anyAlgebraic = anyAlgebraic || h == 0;
+  return s.maxTimes + (anyAlgebraic ? 1 : 0);
+}
 
 class PantelidesPass
     : public TypedPass<PantelidesPass, Reads<MatchingResult>, Updates<>,
@@ -36,9 +53,8 @@ private:
   PantelidesOptions opts_;
 };
 
-bool PantelidesPass::runOn(PassContext &pc, const MatchingResult &mr,
-                           IndexReduction &s) {
-  ir::Model &m = pc.model;
+graph::Pantelides::Status reduce(ir::Model &m, const MatchingResult &mr,
+                                 IndexReduction &s) {
   ir::ExprContext &ctx = m.ctx();
   const int nu = static_cast<int>(mr.unknowns.size());
 
@@ -105,14 +121,8 @@ bool PantelidesPass::runOn(PassContext &pc, const MatchingResult &mr,
     return incidence(d, &p);
   };
   graph::Pantelides::Result res = p.run(hook);
-  if (res.status != graph::Pantelides::Status::Ok) {
-    pc.diags.report(DiagId::ErrIndexReductionFailed, m.loc,
-                   {res.status == graph::Pantelides::Status::NoProgress
-                        ? "the differentiated equations lost unknowns the "
-                          "structure needs (cancellation)"
-                        : "the model is structurally singular"});
-    return false;
-  }
+  if (res.status != graph::Pantelides::Status::Ok)
+    return res.status;
 
   s.highest.assign(nu, 0);
   for (int j = 0; j < nu; ++j) {
@@ -124,23 +134,38 @@ bool PantelidesPass::runOn(PassContext &pc, const MatchingResult &mr,
     s.highest[j] = k;
   }
   s.maxTimes = 0;
-  bool anyAlgebraic = false;
-  for (int j = 0; j < nu; ++j)
-    anyAlgebraic = anyAlgebraic || s.highest[j] == 0;
   for (size_t r = 0; r < mr.equations.size(); ++r) {
     int times = 0;
     for (int x = s.rows[r].next; x >= 0; x = s.rows[x].next)
       ++times;
     s.maxTimes = std::max(s.maxTimes, times);
+  }
+  return graph::Pantelides::Status::Ok;
+}
+
+bool PantelidesPass::runOn(PassContext &pc, const MatchingResult &mr,
+                           IndexReduction &s) {
+  ir::Model &m = pc.model;
+  graph::Pantelides::Status status = reduce(m, mr, s);
+  if (status != graph::Pantelides::Status::Ok) {
+    pc.diags.report(DiagId::ErrIndexReductionFailed, m.loc,
+                   {status == graph::Pantelides::Status::NoProgress
+                        ? "the differentiated equations lost unknowns the "
+                          "structure needs (cancellation)"
+                        : "the model is structurally singular"});
+    return false;
+  }
+  for (size_t r = 0; r < mr.equations.size(); ++r) {
+    int times = 0;
+    for (int x = s.rows[r].next; x >= 0; x = s.rows[x].next)
+      ++times;
     if (times > 0) {
       const ir::Equation &eq = m.equations[mr.equations[r]];
       pc.report.differentiated.push_back(
           {pc.equationText(mr.equations[r]), pc.where(eq.loc), times});
     }
   }
-  // Pryce's structural index: the most differentiations, plus one when an
-  // unknown stays algebraic (it needs one more to become an ODE).
-  pc.report.structuralIndex = s.maxTimes + (anyAlgebraic ? 1 : 0);
+  pc.report.structuralIndex = structuralIndex(s);
   if (!opts_.reduce) {
     // Hand on the model as written: its equations only, every unknown
     // at its order in the model, so nothing becomes a dummy derivative.
@@ -167,6 +192,14 @@ void PantelidesPass::print(PassContext &pc, ResultStore &results,
 }
 
 } // namespace
+
+std::optional<int> structuralIndexAsWritten(ir::Model &m) {
+  MatchingResult mr = sgaInput(m);
+  IndexReduction s;
+  if (reduce(m, mr, s) != graph::Pantelides::Status::Ok)
+    return std::nullopt;
+  return structuralIndex(s);
+}
 
 std::unique_ptr<Pass> createPantelidesPass(const PantelidesOptions &opts) {
   return std::make_unique<PantelidesPass>(opts);

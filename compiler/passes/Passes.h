@@ -37,6 +37,10 @@ std::unique_ptr<Pass> createSgaPass(bool always = false);
 std::unique_ptr<Pass> createSgaSystemPass();
 std::unique_ptr<Pass> createSgaCheckPass();
 std::unique_ptr<Pass> createPantelidesPass(const PantelidesOptions &opts = {});
+/// Pryce's structural index of `m` as written (before alias elimination,
+/// which can hide differentiations: seed 000's sliding control, 3 as
+/// written, 0 after); none when Pantelides fails on it.
+std::optional<int> structuralIndexAsWritten(ir::Model &m);
 std::unique_ptr<Pass> createDummyDerivativesPass();
 std::unique_ptr<Pass> createBuildSystemPass();
 std::unique_ptr<Pass> createBltPass(const BltOptions &opts = {});

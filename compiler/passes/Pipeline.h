@@ -157,7 +157,9 @@ struct AnalysisResult {
   bool singular = false;            // structurally singular model
   std::vector<std::string> overDetermined;  // equation texts
   std::vector<std::string> underDetermined; // variable names
-  std::optional<int> structuralIndex;
+  std::optional<int> structuralIndex; // of the system after alias elimination
+  /// Pryce's structural index of the model as written (--analyze).
+  std::optional<int> structuralIndexAsWritten;
   /// Equals the structural index: ldaec does not compute more yet (the SGA
   /// stage may refine it where structure is fooled by cancellation).
   std::optional<int> differentiationIndex;

@@ -224,7 +224,14 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
       out << "  undetermined:         " << joined(r.underDetermined) << "\n";
     return;
   }
-  if (r.structuralIndex)
+  // Each index says which system it is of where they differ: alias
+  // elimination can remove the equations structure differentiates.
+  if (r.structuralIndexAsWritten && r.structuralIndex &&
+      *r.structuralIndexAsWritten != *r.structuralIndex)
+    out << "  structural index:     " << *r.structuralIndexAsWritten
+        << " as written (Pryce); " << *r.structuralIndex
+        << " after alias elimination\n";
+  else if (r.structuralIndex)
     out << "  structural index:     " << *r.structuralIndex << "\n";
   if (r.differentiationIndex)
     out << "  differentiation index: " << *r.differentiationIndex << "\n";
@@ -278,6 +285,7 @@ nlohmann::json analysisToJson(const AnalysisResult &r) {
   j["aliases"] = r.aliases;
   j["singular"] = r.singular;
   j["structural_index"] = optionalJson(r.structuralIndex);
+  j["structural_index_as_written"] = optionalJson(r.structuralIndexAsWritten);
   j["differentiation_index"] = optionalJson(r.differentiationIndex);
   j["formal_index"] = optionalJson(r.formalIndex);
   if (r.events)
