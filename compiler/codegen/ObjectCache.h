@@ -3,14 +3,22 @@
 // unchanged model loads it instead of optimizing and compiling again
 // (docs/codegen.md, "The object cache"). Built into the JIT module only.
 //
-// An entry's name is a 128-bit hash of everything the machine code depends
+// An entry's name is the SHA-256 of everything the machine code depends
 // on: the module's IR before optimization, the target (triple, CPU,
 // features), the optimization level, and the versions of LLVM, of the JIT
 // backend and of this file's layout. An entry is written to a temporary
 // file and renamed into place, so a reader never sees half of one; one
-// that does not read back whole (truncated, another layout, a checksum
+// that does not read back whole (truncated, another layout, a SHA-256
 // that does not match) is ignored and written again. The directory is kept
 // under kMaxCacheBytes by removing the entries used least recently.
+//
+// The cache is a trust boundary (docs/codegen.md, "Threat model"): its
+// entries are machine code this process runs. A directory that is not
+// this user's alone (another owner, writable by others, a symbolic link)
+// is not used at all, with a warning once; an entry that is not a regular
+// file of this user's that no one else can write is not read; the
+// directory is created 0700; the trim removes only files of the cache's
+// own names and this user's.
 #pragma once
 
 #include "llvm/ExecutionEngine/ObjectCache.h"
@@ -56,6 +64,9 @@ public:
 
 private:
   std::string entryPath() const;
+  /// Whether the directory may be used (see the file comment); warns once
+  /// per process when not.
+  bool trusted() const;
   /// Removes the least recently used entries above kMaxCacheBytes.
   void trim() const;
 
