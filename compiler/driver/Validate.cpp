@@ -14,7 +14,10 @@
 
 #include <cmath>
 #include <set>
+#include <cerrno>
+#include <cstring>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace ldae::driver {
 
@@ -53,19 +56,35 @@ bool checkInput(const std::string &path, DiagnosticEngine &diags) {
   return true;
 }
 
-/// The file's directory exists (the file itself need not).
+/// The file can be written, found before any work: its directory exists
+/// and can be written, the file, if there, is no directory and can be
+/// written. (A run of minutes, or a sweep's results, were lost to an -o
+/// found unwritable only at the end.)
 bool checkOutputDir(const std::string &path, const std::string &what,
                     DiagnosticEngine &diags) {
   if (path.empty() || path == "-")
     return true;
   size_t slash = path.rfind('/');
-  if (slash == std::string::npos)
-    return true; // the working directory
-  std::string dir = slash == 0 ? "/" : path.substr(0, slash);
+  std::string dir = slash == std::string::npos ? "."
+                    : slash == 0               ? "/"
+                                               : path.substr(0, slash);
   struct stat st;
-  if (stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+  if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
+    diags.report(DiagId::ErrNoSuchDirectory, SourceLoc{}, {path, what, dir});
+    return false;
+  }
+  const bool exists = stat(path.c_str(), &st) == 0;
+  std::string why;
+  if (exists && S_ISDIR(st.st_mode))
+    why = "it is a directory";
+  else if (exists && access(path.c_str(), W_OK) != 0)
+    why = std::string("it is not writable (") + std::strerror(errno) + ")";
+  else if (!exists && access(dir.c_str(), W_OK | X_OK) != 0)
+    why = "the directory '" + dir + "' is not writable (" +
+          std::strerror(errno) + ")";
+  if (why.empty())
     return true;
-  diags.report(DiagId::ErrNoSuchDirectory, SourceLoc{}, {path, what, dir});
+  diags.report(DiagId::ErrCannotWriteOutput, SourceLoc{}, {path, what, why});
   return false;
 }
 
@@ -266,6 +285,18 @@ bool checkResultFile(const Options &o, DiagnosticEngine &diags) {
                        "with -o run.mat"});
     return false;
   }
+  // A .mat file is checked by its size once written (MatFile::close):
+  // a device or a pipe cannot be, so it is refused here.
+  struct stat st;
+  if (*format == runtime::ResultFormat::Mat && o.outputFile != "/dev/null" &&
+      stat(o.outputFile.c_str(), &st) == 0 && !S_ISREG(st.st_mode) &&
+      !S_ISDIR(st.st_mode)) {
+    diags.report(DiagId::ErrResultFormat, SourceLoc{},
+                 {o.outputFile, std::string("a .mat result goes to a regular "
+                                            "file, not to ") +
+                                    fileKind(st.st_mode)});
+    return false;
+  }
   return true;
 }
 
@@ -299,6 +330,12 @@ bool checkCommandLine(const CLI::App &app, const Options &o,
   for (const std::string &p : o.paramOverrides)
     ok &= checkParam(p, diags);
   ok &= checkPasses(o, diags);
+  for (const char *opt : {"-o", "--plot"})
+    if (app.count(opt) > 0 &&
+        (std::string(opt) == "-o" ? o.outputFile : o.plotFile).empty()) {
+      diags.report(DiagId::ErrEmptyOutputName, SourceLoc{}, {opt});
+      ok = false;
+    }
   ok &= checkOutputDir(o.outputFile, "-o", diags);
   ok &= checkOutputDir(o.plotFile, "--plot", diags);
   if (!o.plotFile.empty() && !endsWith(o.plotFile, ".svg") &&

@@ -5,7 +5,9 @@
 #include "MatFile.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <dlfcn.h>
+#include <sys/stat.h>
 #include <fmt/format.h>
 #include <matio.h>
 
@@ -55,6 +57,9 @@ const Matio &matio() {
 struct MatFile::Handle {
   mat_t *mat = nullptr;
   std::string path;
+  /// What the variables written take in a MATLAB v4 file: matio does not
+  /// say when a write fails (a full disk), the file's size does.
+  uint64_t bytes = 0;
   ~Handle() {
     if (mat)
       matio().close(mat);
@@ -79,6 +84,13 @@ Expected<MatFile> MatFile::create(const std::string &path) {
 
 namespace {
 
+/// A v4 variable in the file: a 20-byte header, the name with its NUL,
+/// the elements.
+uint64_t v4Bytes(const std::string &name, size_t rows, size_t cols,
+                 size_t element) {
+  return 20 + name.size() + 1 + uint64_t(rows) * cols * element;
+}
+
 /// Writes one variable; matio copies `data`, so it may be a temporary.
 bool writeVar(mat_t *mat, const std::string &name, matio_classes cls,
               matio_types type, size_t rows, size_t cols, const void *data) {
@@ -102,6 +114,7 @@ Expected<bool> MatFile::writeMatrix(const std::string &name, size_t rows,
   if (!writeVar(handle_->mat, name, MAT_C_DOUBLE, MAT_T_DOUBLE, rows, cols,
                 rows != 0 && cols != 0 ? data : &kNone))
     return Error{fmt::format("cannot write '{}' to '{}'", name, handle_->path)};
+  handle_->bytes += v4Bytes(name, rows, cols, sizeof(double));
   return true;
 }
 
@@ -124,6 +137,7 @@ Expected<bool> MatFile::writeStrings(const std::string &name,
   if (!writeVar(handle_->mat, name, MAT_C_CHAR, MAT_T_UINT8, rows, cols,
                 chars.data()))
     return Error{fmt::format("cannot write '{}' to '{}'", name, handle_->path)};
+  handle_->bytes += v4Bytes(name, rows, cols, 1);
   return true;
 }
 
@@ -132,8 +146,21 @@ Expected<bool> MatFile::close() {
     return true;
   int rc = matio().close(handle_->mat);
   handle_->mat = nullptr;
+  const std::string &path = handle_->path;
   if (rc != 0)
-    return Error{fmt::format("cannot write '{}'", handle_->path)};
+    return Error{fmt::format("cannot write '{}'", path)};
+  struct stat st;
+  if (path == "/dev/null")
+    return true;
+  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+    return Error{fmt::format("cannot write '{}': not a regular file", path)};
+  if (uint64_t(st.st_size) != handle_->bytes) {
+    std::remove(path.c_str());
+    return Error{fmt::format("cannot write '{}': {} of its {} bytes reached "
+                             "the file (is the disk full?); the partial file "
+                             "was removed",
+                             path, uint64_t(st.st_size), handle_->bytes)};
+  }
   return true;
 }
 

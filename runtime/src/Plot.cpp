@@ -10,11 +10,13 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <fstream>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -391,22 +393,35 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
       return Error{fmt::format("the column name '{}' contains a line break",
                                result.columns[c])};
   std::string dat = path + ".dat", script = path + ".gp";
+  // Every write checked, with the reason; what could not be written whole
+  // is removed (a full disk gave a plot of part of the rows, exit 0).
+  auto failed = [&](const std::string &file) {
+    int why = errno;
+    std::remove(dat.c_str());
+    std::remove(script.c_str());
+    return Error{fmt::format("cannot write '{}': {}", file,
+                             why ? std::strerror(why) : "write error")};
+  };
   {
+    errno = 0;
     std::ofstream f(dat);
-    if (!f)
-      return Error{fmt::format("cannot write '{}'", dat)};
     for (const auto &row : result.rows) {
       std::string line = formatValue(row[0]);
       for (int c : drawn)
         line += " " + formatValue(row[c]);
       f << line << '\n';
     }
+    f.close();
+    if (!f)
+      return failed(dat);
   }
   {
+    errno = 0;
     std::ofstream f(script);
-    if (!f)
-      return Error{fmt::format("cannot write '{}'", script)};
     f << plotScript(result, *plan, *terminal, path, dat);
+    f.close();
+    if (!f)
+      return failed(script);
   }
   // "./" keeps a relative name starting with '-' from being an option.
   std::string text;
@@ -416,6 +431,11 @@ Expected<bool> plot(const SimResult &result, const std::string &path,
     return Error{fmt::format("cannot run gnuplot: {}", text)};
   if (rc != 0)
     return Error{fmt::format("gnuplot failed on '{}': {}", script, text)};
+  // gnuplot says nothing when the disk is full under its output.
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0 || st.st_size == 0)
+    return Error{fmt::format("gnuplot wrote no '{}'{}", path,
+                             text.empty() ? "" : ": " + text)};
   noteLeftOut(*plan, notes);
   return true;
 }

@@ -5,7 +5,11 @@
 #include "support/EditDistance.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <sys/stat.h>
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
@@ -72,16 +76,33 @@ void writeCsv(const SimResult &result, std::ostream &out) {
 }
 
 Expected<bool> writeCsv(const SimResult &result, const std::string &path) {
+  // Every write is checked, with the reason (a full disk says so); a file
+  // that could not be written whole is removed, never passed off as whole.
   if (path == "-") {
+    errno = 0;
     writeCsv(result, std::cout);
+    if (!std::cout)
+      return Error{fmt::format("cannot write the results to standard output: "
+                               "{}",
+                               errno ? std::strerror(errno) : "write error")};
     return true;
   }
+  errno = 0;
   std::ofstream f(path);
   if (!f)
-    return Error{fmt::format("cannot write '{}'", path)};
+    return Error{fmt::format("cannot write '{}': {}", path,
+                             errno ? std::strerror(errno) : "open failed")};
   writeCsv(result, f);
-  if (!f)
-    return Error{fmt::format("cannot write '{}'", path)};
+  f.close();
+  if (!f) {
+    int why = errno;
+    struct stat st;
+    bool removed = ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+                   std::remove(path.c_str()) == 0;
+    return Error{fmt::format("cannot write '{}': {}{}", path,
+                             why ? std::strerror(why) : "write error",
+                             removed ? " (the partial file was removed)" : "")};
+  }
   return true;
 }
 
