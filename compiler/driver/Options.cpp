@@ -113,8 +113,8 @@ void defineOptions(CLI::App &app, Options &o) {
                  "every combination; one compile, the runs on --jobs threads, "
                  "every member in -o (docs/results.md, \"Sweeps\")");
   app.add_option("--jobs", o.jobs,
-                 "with --sweep: members run at once (default: the cores)")
-      ->check(CLI::PositiveNumber);
+                 "with --sweep: members run at once (default 0: the cores)")
+      ->check(CLI::Range(0, 4096));
   app.add_flag("--no-cache", o.noCache,
                "with --simulate: neither read nor write the cache of "
                "compiled models ($LDAEC_CACHE_DIR, else "

@@ -15,6 +15,7 @@
 #include "support/Diagnostics.h"
 #include "Plot.h"
 #include "ResultWriter.h"
+#include "Rebind.h"
 #include "Sweep.h"
 #include "ldae/Simulation.h"
 
@@ -114,9 +115,22 @@ static int runSweep(driver::Compilation &c, const driver::Options &opts,
     axes.push_back(*runtime::parseSweepAxis(spec)); // checked: exit 2
   runtime::SimOptions base = sim;
   base.progress = false; // one line per member instead
+  // A name the model does not have is a bad command line, found before
+  // any member runs (it failed each of 50,000 members in turn).
+  std::vector<std::map<std::string, double>> grid = runtime::sweepMembers(axes);
+  if (!grid.empty()) {
+    std::map<std::string, double> params = base.params;
+    for (const auto &[name, value] : grid.front())
+      params[name] = value;
+    Expected<runtime::BoundValues> bound = runtime::bindValues(
+        c.compiled().model(), params, base.starts, base.start.value_or(0.0));
+    if (!bound)
+      return reportError(c.diagnostics(), DiagId::ErrSimulationOptions,
+                         "--sweep: " + bound.error(), 2);
+  }
   std::vector<runtime::SweepMember> members = runtime::runSweep(
       [&c](const runtime::SimOptions &o) { return c.simulate(o); }, base,
-      runtime::sweepMembers(axes), opts.jobs,
+      std::move(grid), opts.jobs,
       opts.noProgress ? nullptr : &std::cerr);
   Expected<bool> written = runtime::writeSweep(
       members, opts.outputFile.empty() ? std::string("-") : opts.outputFile,

@@ -131,7 +131,10 @@ ParamOverride parseParamOverride(const std::string &option) {
   char *end = nullptr;
   errno = 0;
   double v = std::strtod(o.text.c_str(), &end);
-  if (!o.text.empty() && *end == '\0' && std::isfinite(v) && errno != ERANGE)
+  // An underflow (1e-400) is the nearest double, 0 or subnormal, as in
+  // Python; an overflow is no number.
+  if (!o.text.empty() && *end == '\0' && std::isfinite(v) &&
+      !(errno == ERANGE && std::fabs(v) >= 1))
     o.value = v;
   return o;
 }

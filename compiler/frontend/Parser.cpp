@@ -298,6 +298,17 @@ reportingParse(uint32_t fileId, const SourceManager &sources,
 std::unique_ptr<ast::StoredDefinition>
 parseFile(uint32_t fileId, const SourceManager &sources,
           DiagnosticEngine &diags) {
+  // A UTF-16 file (a byte order mark, or ASCII with NULs between) is said
+  // once for what it is, not as an invalid UTF-8 byte on every line.
+  const std::string &text = sources.text(fileId);
+  if (text.size() >= 2 &&
+      ((text[0] == '\xff' && text[1] == '\xfe') ||
+       (text[0] == '\xfe' && text[1] == '\xff') ||
+       (text[0] != '\0' && text[1] == '\0') ||
+       (text[0] == '\0' && text[1] != '\0'))) {
+    diags.report(DiagId::ErrUtf16Source, SourceLoc{fileId, 1, 1}, {});
+    return nullptr;
+  }
   if (auto tree = quickParse(fileId, sources, diags))
     return std::move(*tree);
   return reportingParse(fileId, sources, diags);

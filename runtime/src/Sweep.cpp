@@ -40,6 +40,17 @@ Expected<double> parseNumber(const std::string &text) {
     ++first;
   double v = 0;
   auto [end, ec] = std::from_chars(first, last, v);
+  // An underflow (1e-400) is 0, as the command line's --param reads it;
+  // an overflow is no finite number.
+  if (ec == std::errc::result_out_of_range && end == last) {
+    std::string exponent(std::find_if(first, last,
+                                      [](char c) { return c == 'e' || c == 'E'; }),
+                         last);
+    if (exponent.size() > 1 && exponent[1] == '-') {
+      v = *first == '-' ? -0.0 : 0.0;
+      ec = std::errc();
+    }
+  }
   if (t.empty() || ec != std::errc() || end != last || !std::isfinite(v))
     return Error{fmt::format("'{}' is not a finite number", t)};
   return v;
