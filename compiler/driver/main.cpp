@@ -15,6 +15,7 @@
 #include "support/Diagnostics.h"
 #include "Plot.h"
 #include "ResultWriter.h"
+#include "Interrupt.h"
 #include "Rebind.h"
 #include "Sweep.h"
 #include "ldae/Simulation.h"
@@ -23,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 
 #include <optional>
 #include <fstream>
@@ -145,6 +147,8 @@ static int runSweep(driver::Compilation &c, const driver::Options &opts,
     std::cerr << fmt::format("ldaec: {} of {} members failed (status in the "
                              "result file)\n",
                              failed, members.size());
+  if (int signal = driver::InterruptGuard::received())
+    return 128 + signal; // the members so far are in the result file
   return failed ? 3 : 0;
 }
 
@@ -228,13 +232,29 @@ static int run(int argc, char **argv) {
   // Checked on the command line (exit 2 before any work).
   runtime::ResultFormat format =
       *runtime::resultFormat(opts.outputFile, opts.format);
+  // A signal during the run ends it at its next step; its rows are written
+  // (docs/results.md, "When a run is interrupted").
+  driver::InterruptGuard guard;
+  sim.interrupted = [] { return driver::InterruptGuard::received() != 0; };
   if (!opts.sweep.empty())
     return runSweep(c, opts, sim, format);
   Expected<runtime::SimResult> result = c.simulate(sim);
   if (!result)
     return reportError(c.diagnostics(), DiagId::ErrSimulationOptions,
                        result.error(), 2);
-  if (result->status != 0)
+  const int signal = result->interrupted ? driver::InterruptGuard::received()
+                                         : 0;
+  if (signal)
+    std::cerr << fmt::format("ldaec: {}: the run stopped at t = {:.10g}; its "
+                             "{} rows are written to {}\n",
+                             signal == SIGINT ? "SIGINT" : "SIGTERM",
+                             result->rows.empty() ? 0.0
+                                                  : result->rows.back()[0],
+                             result->rows.size(),
+                             opts.outputFile.empty() || opts.outputFile == "-"
+                                 ? std::string("standard output")
+                                 : "'" + opts.outputFile + "'");
+  else if (result->status != 0)
     reportError(c.diagnostics(), DiagId::ErrSimulationFailed, result->failure,
                 3);
   Expected<bool> written = runtime::writeResult(
@@ -243,7 +263,7 @@ static int run(int argc, char **argv) {
   if (!written)
     return reportError(c.diagnostics(), DiagId::ErrorGeneric, written.error(),
                        1);
-  int rc = result->status == 0 ? 0 : 3;
+  int rc = signal ? 128 + signal : result->status == 0 ? 0 : 3;
   if (!opts.plotFile.empty()) {
     // The results are written either way; a plot asked for and not made is
     // still an error.

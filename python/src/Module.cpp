@@ -13,6 +13,7 @@
 #include "passes/Pipeline.h"
 
 #include <nlohmann/json.hpp>
+#include <chrono>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -217,11 +218,28 @@ public:
     o.progress = false;
     std::ostringstream log;
     o.log = &log;
+    // Ctrl-C: Python's handler only sets a flag, which the run polls (in
+    // the main thread, every 50 ms of the run, taking the GIL for it): the
+    // run stops within a step and KeyboardInterrupt is raised; the result
+    // is dropped, as an exception drops a return value.
+    bool signalled = false;
+    auto lastCheck = std::chrono::steady_clock::now();
+    o.interrupted = [&signalled, &lastCheck] {
+      auto now = std::chrono::steady_clock::now();
+      if (signalled || now - lastCheck < std::chrono::milliseconds(50))
+        return signalled;
+      lastCheck = now;
+      py::gil_scoped_acquire acquire;
+      signalled = PyErr_CheckSignals() != 0;
+      return signalled;
+    };
     std::optional<Expected<runtime::SimResult>> r;
     {
       py::gil_scoped_release release;
       r.emplace(c_->simulate(std::move(o)));
     }
+    if (signalled)
+      throw py::error_already_set(); // the KeyboardInterrupt Python set
     if (!*r)
       throw StageError{
           2, diagnosticText(*c_, DiagId::ErrSimulationOptions, r->error())};

@@ -1036,6 +1036,11 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         !reselectStates(ev, ida, t, std::min(s_.stop, t + s_.interval), res_,
                         o_.log))
       return done(StageEnd::Done);
+    if (o_.interrupted && o_.interrupted()) {
+      res_.interrupted = true;
+      res_.failure = fmt::format("interrupted at t = {:.10g}", t);
+      return done(StageEnd::Done);
+    }
     progress_.update(t);
   }
   // The last row is the stop time's; then the terminal event.

@@ -82,6 +82,9 @@ struct SimOptions {
   /// naming the condition.
   std::function<Expected<const ldae_model *>(const std::vector<double> &values)>
       modeProvider;
+  /// Polled after every integrator step: true ends the run there, its rows
+  /// kept (SimResult::interrupted; a signal, Python's Ctrl-C). Unset: never.
+  std::function<bool()> interrupted;
 };
 
 /// Counters of one run (summed over all IDA re-initializations).
@@ -132,6 +135,9 @@ struct ParamValue {
 struct SimResult {
   int status = 0;      ///< 0 ok, 3 numerical failure (rows kept up to it)
   std::string failure; ///< the message when status != 0
+  /// SimOptions::interrupted ended the run (status 3, the rows so far
+  /// kept, `failure` says where).
+  bool interrupted = false;
   std::string model;   ///< the model's name (plot titles, .mat description)
   std::vector<std::string> columns; ///< "time", then the reported names
   std::vector<ColumnInfo> info;     ///< one per column
