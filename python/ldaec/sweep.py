@@ -34,12 +34,22 @@ def members_of(params):
     if isinstance(params, dict):
         names = list(params)
         axes = [list(np.atleast_1d(params[n]).tolist()) for n in names]
-        return [dict(zip(names, combo)) for combo in itertools.product(*axes)]
-    members = list(params)
-    if not all(isinstance(m, dict) for m in members):
-        raise UsageError("error: params must be a dict of lists (a grid) or "
-                         "a list of dicts (samples)\n")
-    return [dict(m) for m in members]
+        members = [dict(zip(names, combo))
+                   for combo in itertools.product(*axes)]
+    else:
+        members = list(params)
+        if not all(isinstance(m, dict) for m in members):
+            raise UsageError("error: params must be a dict of lists (a grid) "
+                             "or a list of dicts (samples)\n")
+        members = [dict(m) for m in members]
+    # As the command line refuses them, before any member runs.
+    for m in members:
+        for name, value in m.items():
+            if not math.isfinite(float(value)):
+                raise UsageError(f"error: invalid parameter override "
+                                 f"'{name}={value}': '{value}' is not a "
+                                 f"number\n")
+    return members
 
 
 def _chunks(items, size):

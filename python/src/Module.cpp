@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 #include <chrono>
+#include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -46,6 +47,10 @@ struct CompileArgs {
 };
 
 driver::CompileRequest compileRequest(const CompileArgs &a, bool reportOnly) {
+  // As open() does: a NUL would cut the path short (compile('osc.lsd\0junk')
+  // compiled osc.lsd).
+  if (a.path.find('\0') != std::string::npos)
+    throw StageError{2, "error: the path contains a NUL character\n"};
   driver::CompileRequest req;
   req.path = a.path;
   req.modelName = a.model;
@@ -202,6 +207,28 @@ public:
     if (!integrator)
       throw StageError{2, "error: unknown integrator '" + a.integrator +
                               "' (auto, ida, cvode, cvode-bdf, cvode-adams)\n"};
+    // The command line's checks, with its messages (NaN and inf were run).
+    for (const auto &[what, map] :
+         {std::pair{"parameter override", &a.params},
+          std::pair{"start value override", &a.starts}})
+      for (const auto &[name, value] : *map)
+        if (!std::isfinite(value))
+          throw StageError{2, fmt::format("error: invalid {} '{}={}': '{}' is "
+                                          "not a number\n",
+                                          what, name, value, value)};
+    for (const auto &[option, value] :
+         {std::pair{"start", a.start}, std::pair{"stop", a.stop},
+          std::pair{"rtol", a.rtol}, std::pair{"atol", a.atol},
+          std::pair{"interval", a.interval}})
+      if (value && !std::isfinite(*value))
+        throw StageError{2, fmt::format("error: invalid {} '{}': not a finite "
+                                        "number\n",
+                                        option, *value)};
+    for (double t : a.times)
+      if (!std::isfinite(t))
+        throw StageError{2, fmt::format("error: invalid output time '{}': not "
+                                        "a finite number\n",
+                                        t)};
     runtime::SimOptions o;
     o.start = a.start;
     o.stop = a.stop;

@@ -120,3 +120,29 @@ def test_analyze_a_model_that_does_not_compile(tmp_path):
         ldaec.analyze(path)
     assert info.value.report["model"] == "Conflict"
     assert "error: the model has no solution" in info.value.diagnostics
+
+
+def test_bad_values_refused_as_on_the_command_line():
+    """NaN and inf parameters, start values and options, and a NUL in a
+    path, are refused with the command line's messages (issue 28: they ran,
+    and compile('osc.lsd\\0junk') compiled osc.lsd)."""
+    import math
+    m = ldaec.compile(PENDULUM, cache=False)
+    cases = [
+        (dict(params={"g": math.nan}),
+         "invalid parameter override 'g=nan': 'nan' is not a number"),
+        (dict(params={"g": math.inf}),
+         "invalid parameter override 'g=inf': 'inf' is not a number"),
+        (dict(start={"x": math.nan}),
+         "invalid start value override 'x=nan': 'nan' is not a number"),
+        (dict(stop=math.inf), "invalid stop 'inf': not a finite number"),
+        (dict(rtol=math.nan), "invalid rtol 'nan': not a finite number"),
+    ]
+    for kwargs, message in cases:
+        with pytest.raises(ldaec.UsageError, match=re.escape(message)):
+            m.simulate(**kwargs)
+    with pytest.raises(ldaec.UsageError, match="the path contains a NUL"):
+        ldaec.compile(PENDULUM + "\0junk")
+    from ldaec.sweep import members_of
+    with pytest.raises(ldaec.UsageError, match="'g=nan': 'nan' is not a number"):
+        members_of({"g": [1.0, math.nan]})
