@@ -778,8 +778,12 @@ std::vector<int> CvodeIntegrator::rootsFound() const {
 
 std::vector<double> CvodeIntegrator::weightedErrors() const {
   void *mem = impl_->mem;
+  long steps = 0;
+  if (CVodeGetNumSteps(mem, &steps) < 0)
+    steps = 0;
   return sundials::weightedErrors(
-      impl_->y, ev_.n(), [&](N_Vector w) { return CVodeGetErrWeights(mem, w); },
+      impl_->y, ev_.n(), steps,
+      [&](N_Vector w) { return CVodeGetErrWeights(mem, w); },
       [&](N_Vector e) { return CVodeGetEstLocalErrors(mem, e); });
 }
 

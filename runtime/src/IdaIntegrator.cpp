@@ -349,8 +349,12 @@ std::vector<int> IdaIntegrator::rootsFound() const {
 
 std::vector<double> IdaIntegrator::weightedErrors() const {
   void *mem = impl_->mem;
+  long steps = 0;
+  if (IDAGetNumSteps(mem, &steps) < 0)
+    steps = 0;
   return sundials::weightedErrors(
-      impl_->y, ev_.n(), [&](N_Vector w) { return IDAGetErrWeights(mem, w); },
+      impl_->y, ev_.n(), steps,
+      [&](N_Vector w) { return IDAGetErrWeights(mem, w); },
       [&](N_Vector e) { return IDAGetEstLocalErrors(mem, e); });
 }
 

@@ -43,11 +43,15 @@ inline void copyPattern(SUNMatrix J, const ldae_state_set &s, int n) {
 }
 
 /// |w_i e_i| from a solver's getters of error weights and estimated local
-/// errors (zeros where they fail).
+/// errors (zeros where they fail, and before the solver's first step,
+/// whose error vectors are still uninitialized memory: a failed
+/// initialization listed a different "weighted error 9.48e-310" each run).
 template <typename GetWeights, typename GetErrors>
-std::vector<double> weightedErrors(N_Vector like, int n, GetWeights weights,
-                                   GetErrors errors) {
+std::vector<double> weightedErrors(N_Vector like, int n, long steps,
+                                   GetWeights weights, GetErrors errors) {
   std::vector<double> out(n, 0.0);
+  if (steps <= 0)
+    return out;
   N_Vector w = N_VClone(like), e = N_VClone(like);
   if (w && e && weights(w) >= 0 && errors(e) >= 0) {
     const double *pw = N_VGetArrayPointer(w), *pe = N_VGetArrayPointer(e);
