@@ -40,10 +40,18 @@ def stopped_run(out, sig):
                           "--interval", "0.1", "--rtol", "1e-8",
                           "--no-progress", "-o", out],
                          stderr=subprocess.PIPE, text=True)
-    time.sleep(1.5)  # compiled and integrating: the run takes minutes
+    # The run has started once the initialization reports (a signal while
+    # compiling keeps its default action); then some rows: the whole run
+    # takes minutes.
+    seen = []
+    for line in p.stderr:
+        seen.append(line)
+        if line.startswith("initialization:"):
+            break
+    time.sleep(1.0)
     p.send_signal(sig)
     _, err = p.communicate(timeout=300)
-    return p.returncode, err
+    return p.returncode, "".join(seen) + err
 
 
 rc, err = stopped_run(os.path.join(WORK, "int.csv"), signal.SIGINT)
