@@ -121,8 +121,23 @@ def _run_member(model, spec, index, member):
             r.write(path)
             record["file"] = path
         except LdaecError as e:
+            # Its file is not there: the member did not finish.
             record["diagnostics"] += e.diagnostics
+            record["status"] = record["status"] or e.exit_code or 1
     return record
+
+
+#: The status of a member whose worker process died running it (a crash
+#: in native code, the operating system's out-of-memory killer).
+WORKER_DIED = -1
+
+
+def _fault_injection(index):
+    """Tests only: LDAEC_SWEEP_ABORT_MEMBER=k makes the worker process
+    that runs member k die (what a crash in native code does), so that the
+    sweep's recovery can be tested without a crashing model."""
+    if os.environ.get("LDAEC_SWEEP_ABORT_MEMBER") == str(index):
+        os.abort()
 
 
 def run_chunk(spec, chunk):
@@ -133,7 +148,11 @@ def run_chunk(spec, chunk):
         return [{"index": i, "params": m, "status": e.exit_code,
                  "diagnostics": e.diagnostics, "time": None, "values": None,
                  "recompiled": False, "wall_time": 0.0} for i, m in chunk]
-    return [_run_member(model, spec, i, m) for i, m in chunk]
+    records = []
+    for i, m in chunk:
+        _fault_injection(i)
+        records.append(_run_member(model, spec, i, m))
+    return records
 
 
 # ---- the result ---------------------------------------------------------------
@@ -252,8 +271,16 @@ def _spec(model, compile_options, run, write_dir, write_format):
         raise UsageError(f"error: cannot read '{path}': {e.strerror}\n") \
             from None
     if write_dir:
+        # Found before any member runs, not after all of them.
         write_dir = os.path.abspath(os.fspath(write_dir))
-        os.makedirs(write_dir, exist_ok=True)
+        try:
+            os.makedirs(write_dir, exist_ok=True)
+        except OSError as e:
+            raise UsageError(f"error: cannot create write_dir '{write_dir}': "
+                             f"{e.strerror}\n") from None
+        if not os.access(write_dir, os.W_OK | os.X_OK):
+            raise UsageError(f"error: cannot write to write_dir "
+                             f"'{write_dir}'\n")
     return {"path": path, "source": source,
             "hash": hashlib.sha256(source).hexdigest(),
             "compile": compile_options,
@@ -337,12 +364,38 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
         setup = time.perf_counter() - t0
         size = chunk_size or max(1, min(256, math.ceil(
             len(members) / (8 * workers))))
-        futures = [client.submit(run_chunk, spec, chunk, pure=False)
-                   for chunk in _chunks(members, size)]
+        chunk_of = {}
+        for chunk in _chunks(members, size):
+            chunk_of[client.submit(run_chunk, spec, chunk, pure=False)] = chunk
         records = []
         # Results are fetched by the client's event loop as tasks end, not
-        # one blocking round trip per chunk.
-        for _, batch in distributed.as_completed(futures, with_results=True):
+        # one blocking round trip per chunk. A task whose worker died (Dask
+        # retries it on others, then gives up: KilledWorker) loses no other
+        # member: its chunk runs again one member per task, and the member
+        # that kills its worker alone is reported, with its parameters.
+        pending = distributed.as_completed(list(chunk_of))
+        for future in pending:
+            chunk = chunk_of.pop(future)
+            try:
+                batch = future.result()
+            except Exception as e:  # the worker died, or the task failed
+                if len(chunk) > 1:
+                    for member in chunk:
+                        f = client.submit(run_chunk, spec, [member],
+                                          pure=False)
+                        chunk_of[f] = [member]
+                        pending.add(f)
+                    continue
+                [(index, params)] = chunk
+                values = ", ".join(f"{k}={format_value(v)}"
+                                   for k, v in params.items())
+                batch = [{"index": index, "params": params,
+                          "status": WORKER_DIED,
+                          "diagnostics": f"error: the worker process running "
+                                         f"member {index} ({values}) died: "
+                                         f"{type(e).__name__}: {e}\n",
+                          "time": None, "values": None, "recompiled": False,
+                          "wall_time": 0.0}]
             counter.add(batch)
             records += batch
         return SweepResult(records, setup, time.perf_counter() - t0 - setup)

@@ -90,3 +90,37 @@ def test_default_local_cluster():
                          cache=False, progress=False)
     assert list(result.status) == [0, 3]
     assert result.setup_seconds > 0
+
+
+def test_a_member_that_kills_its_worker(tmp_path, monkeypatch):
+    """A member whose worker process dies (issue 28: the whole sweep was
+    lost to KilledWorker, members.csv too): every other member's result is
+    kept, the dead one is named with its parameters, status -1."""
+    monkeypatch.setenv("LDAEC_SWEEP_ABORT_MEMBER", "3")
+    x0 = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8]
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1,
+                                  processes=True,
+                                  dashboard_address=None) as c:
+        result = ldaec.sweep(BLOWUP, {"x0": x0}, scheduler=c.scheduler_address,
+                             cache=False, chunk_size=4, progress=False,
+                             write_dir=tmp_path, write_format="csv")
+    assert list(result.status) == [0, 0, 0, -1, 0, 0, 0, 0]
+    [dead] = result.failed
+    assert dead["index"] == 3 and dead["params"] == {"x0": 0.4}
+    assert "member 3 (x0=0.4) died" in dead["diagnostics"]
+    for k, v in enumerate(x0):
+        if k != 3:
+            np.testing.assert_allclose(result["x"][k], v / (1 - v * result.time),
+                                       rtol=1e-5)
+    rows = list(csv.DictReader(open(tmp_path / "members.csv")))
+    assert [r["status"] for r in rows] == ["0", "0", "0", "-1", "0", "0", "0", "0"]
+
+
+def test_unwritable_write_dir_refused_first(tmp_path):
+    """write_dir is checked before any member runs (it raised only after
+    every member ran)."""
+    blocker = tmp_path / "file"
+    blocker.write_text("not a directory")
+    with pytest.raises(ldaec.UsageError, match="cannot create write_dir"):
+        ldaec.sweep(BLOWUP, {"x0": X0}, scheduler="serial", cache=False,
+                    progress=False, write_dir=blocker / "sub")
