@@ -960,6 +960,11 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
                     recordGridUpTo(t, ida.y(), ida.yp());
     if (!recorded)
       return done(StageEnd::Done);
+    // With --every-step each step is an output: the limit on steps between
+    // output times is not the default grid's (--stop 8e6 --every-step ran
+    // into it at t = 12279).
+    if (o_.everyStep)
+      stepsSinceOutput = 0;
     bool timeEvent = st.kind == StepStatus::StopReached && t >= nextEvent;
     bool rootEvent = st.kind == StepStatus::Root && events.handlesRoots();
     bool forced = false; // a crossing ignored as round-off was real
