@@ -7,6 +7,8 @@
 // orthonormal bases.
 #include "numeric/SparseWong.h"
 
+#include <optional>
+
 #include "numeric/SparseLu.h"
 #include "numeric/WongSequence.h"
 
@@ -553,7 +555,52 @@ void denseOn(const MatrixXd &E, const MatrixXd &F, double tol,
 
 } // namespace
 
+/// Columns no entry reads are free directions of their own (e_c is in
+/// both V and W): analyzed apart, so that what is left stays the size of
+/// the equations, not of the unknowns. Null when every column is read.
+static std::optional<PencilAnalysis> withUnusedColumns(const SparsePencil &p,
+                                                const PencilOptions &opts) {
+  std::vector<int> index(p.cols, -1);
+  for (const auto *list : {&p.E, &p.F})
+    for (const SparsePencil::Entry &e : *list)
+      index[e.col] = 0;
+  std::vector<int> unused;
+  SparsePencil sub;
+  sub.rows = p.rows;
+  for (int c = 0; c < p.cols; ++c)
+    if (index[c] < 0)
+      unused.push_back(c);
+    else
+      index[c] = sub.cols++;
+  if (unused.empty())
+    return std::nullopt;
+  for (const SparsePencil::Entry &e : p.E)
+    sub.E.push_back({e.row, index[e.col], e.value});
+  for (const SparsePencil::Entry &e : p.F)
+    sub.F.push_back({e.row, index[e.col], e.value});
+  PencilAnalysis out = analyzePencil(sub, opts);
+  out.square = p.rows == p.cols;
+  if (!out.computed)
+    return out;
+  const Index kept = std::min<Index>(Index(unused.size()), kMaxUnitDirections);
+  MatrixXd free = MatrixXd::Zero(p.cols, out.freeDirections.cols() + kept);
+  for (int c = 0; c < p.cols; ++c)
+    if (index[c] >= 0 && index[c] < out.freeDirections.rows())
+      free.row(c).head(out.freeDirections.cols()) =
+          out.freeDirections.row(index[c]);
+  for (Index k = 0; k < kept; ++k)
+    free(unused[size_t(k)], out.freeDirections.cols() + k) = 1;
+  out.freeCount += Index(unused.size());
+  out.freeDirections = std::move(free);
+  out.dimV += int(unused.size());
+  out.dimW += int(unused.size());
+  out.regular = false;
+  return out;
+}
+
 PencilAnalysis analyzePencil(const SparsePencil &p, const PencilOptions &opts) {
+  if (std::optional<PencilAnalysis> split = withUnusedColumns(p, opts))
+    return *split;
   PencilAnalysis out;
   out.square = p.rows == p.cols;
   MatrixXd free;
@@ -566,6 +613,7 @@ PencilAnalysis analyzePencil(const SparsePencil &p, const PencilOptions &opts) {
     out.reducedCols = p.cols;
     out.computed = true;
     out.freeDirections = free;
+    out.freeCount = free.cols();
     out.regular = out.square && out.dimV + out.dimW == p.cols &&
                   free.cols() == 0;
     return out;
@@ -645,6 +693,7 @@ PencilAnalysis analyzePencil(const SparsePencil &p, const PencilOptions &opts) {
   out.freeDirections = free.cols() == 0         ? MatrixXd(p.cols, 0)
                        : free.cols() > kOrthLimit ? full
                                                   : orthColumns(full);
+  out.freeCount = out.freeDirections.cols();
   out.regular = out.square && out.dimV + out.dimW == p.cols &&
                 out.freeDirections.cols() == 0;
   return out;

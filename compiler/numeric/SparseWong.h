@@ -69,12 +69,21 @@ struct PencilAnalysis {
   /// orthonormal up to 400 directions, past that the reduction's own
   /// independent columns.
   Eigen::MatrixXd freeDirections;
+  /// dim(V ∩ T): freeDirections.cols(), except where columns that no
+  /// entry reads are free beyond kMaxUnitDirections of them (one equation
+  /// for 10,000 unknowns: a dense basis of 9,999 directions took 2.4 GB),
+  /// when freeDirections holds the first kMaxUnitDirections of them.
+  Eigen::Index freeCount = 0;
   /// How it was computed: "dense", "structured" or "reduced-dense", and
   /// the size of the reduced pencil.
   std::string path;
   int reducedRows = 0, reducedCols = 0;
   int indexOnePairs = 0; ///< 1 x 1 blocks split off by step 1
 };
+
+/// Past this many columns that no entry of a pencil reads, only this many
+/// of their unit directions are kept in PencilAnalysis::freeDirections.
+inline constexpr Eigen::Index kMaxUnitDirections = 64;
 
 /// The Wong sequences of `p` (see the file comment for the method).
 PencilAnalysis analyzePencil(const SparsePencil &p,

@@ -342,7 +342,7 @@ public:
     std::vector<int> conflictRows;
     if (!a.regular) {
       rep.freeDirections = directionTexts(a.freeDirections, *lm, ctx.model);
-      rep.freeCount = a.freeDirections.cols();
+      rep.freeCount = size_t(a.freeCount);
       rep.conflict = findConflict(ctx, *lm, conflictRows);
     }
     ctx.report.linear = rep;
