@@ -135,6 +135,7 @@ private:
   ir::ExprRef fired(size_t clause);
   bool buildUpdate();
   bool checkWhenLoops();
+  const ir::WhenClause *initialClauseAssigning(ir::VarId v) const;
   bool buildTimeEvents();
   void chooseMode();
   ir::ExprRef cur(size_t k) { return ctx_.param(out_.current(k)); }
@@ -160,6 +161,7 @@ private:
   std::vector<ir::ExprRef> def_;
   std::map<size_t, std::string> definedBy_; // slot -> its equation's text
   std::unique_ptr<ir::Substitution> defSubst_;
+  bool failed_ = false; // an error reported before buildUpdate
 };
 
 /// `initial equation heat = false;`: an initial equation of discrete
@@ -184,6 +186,16 @@ void EventBuilder::initialDiscreteValues() {
         Expected<double> v = ir::evaluate(value, env, &m_);
         if (!v)
           continue;
+        // A when-clause active at initialization that assigns the variable
+        // too makes its pre() an unknown of the initialization (`xd =
+        // pre(xd) + 4*pre(x)` with `xd = 2`: pre(xd) = -6 in OpenModelica's
+        // pre3), which ldaec does not solve: refused, never a guess.
+        if (const ir::WhenClause *w = initialClauseAssigning(k.var)) {
+          pc_.diags.report(DiagId::ErrInitialEquationAndWhenInitial, e.loc,
+                           {m_.variables[k.var].name, e.text,
+                            "when " + ir::printLsd(w->condition, &m_)});
+          failed_ = true;
+        }
         // Folded into the discrete start: a run cannot evaluate it again.
         markStructural(value);
         m_.variables[k.var].start = *v;
@@ -416,15 +428,39 @@ ir::ExprRef EventBuilder::risen(size_t clause) {
   const Slot &initial = slots_[static_cast<size_t>(initialSlot_)];
   ir::ExprRef init = cur(static_cast<size_t>(initialSlot_));
   std::vector<ir::ExprRef> any;
+  // initial() rises once, in the first update of the initial event (its
+  // pre() is 0 there only): a when initial() fires once, not in every
+  // round of the event iteration (OpenModelica's pre3 never settled).
+  ir::ExprRef initRose = ctx_.logicalAnd(
+      init, ctx_.logicalNot(pre(static_cast<size_t>(initialSlot_))));
   for (size_t k : slotsOfWhen_[clause]) {
     if (ir::dependsOn(slots_[k].condition, {initial.var, 0}))
       any.push_back(ctx_.logicalAnd(
-          cur(k), ctx_.logicalOr(init, ctx_.logicalNot(pre(k)))));
+          cur(k), ctx_.logicalOr(initRose,
+                                 ctx_.logicalAnd(ctx_.logicalNot(init),
+                                                 ctx_.logicalNot(pre(k))))));
     else
       any.push_back(ctx_.logicalAnd(std::vector<ir::ExprRef>{
           cur(k), ctx_.logicalNot(pre(k)), ctx_.logicalNot(init)}));
   }
   return ctx_.logicalOr(any);
+}
+
+/// The when-clause whose condition reads initial() (active at the initial
+/// event) that assigns `v`, if any.
+const ir::WhenClause *EventBuilder::initialClauseAssigning(ir::VarId v) const {
+  for (const ir::WhenClause &w : m_.whenClauses) {
+    bool readsInitial = false;
+    for (ir::ExprRef c : conditionsOf(w))
+      for (ir::VarKey k : ir::freeVariables(c))
+        readsInitial |= m_.variables[k.var].input == ir::EventInput::Initial;
+    if (!readsInitial)
+      continue;
+    for (ir::ExprRef t : w.targets)
+      if (t->var() == v)
+        return &w;
+  }
+  return nullptr;
 }
 
 /// Whether branch `clause` fires: it rose and no earlier branch of the
@@ -742,6 +778,8 @@ bool EventBuilder::run() {
   for (ir::VarId v = 0; v < m_.variables.size(); ++v)
     m_.variables[v].isDiscrete = discrete_[v];
   initialDiscreteValues();
+  if (failed_)
+    return false;
   partitionEquations();
   collectSlots();
   addParameters();
