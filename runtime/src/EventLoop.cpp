@@ -14,13 +14,6 @@ namespace {
 
 /// Updates without reaching a fixed point before the iteration is a failure.
 constexpr int kMaxIterations = 100;
-/// Chattering: more than this many events ...
-constexpr size_t kChatterEvents = 50;
-/// ... within this span relative to 1 + |t|. Not 1e-9: a condition that
-/// switches itself back is seen again only after the integrator's first
-/// step from the restart (crossings within round-off do not count,
-/// RootWatch.h), some 1e-10 s.
-constexpr double kChatterSpan = 1e-6;
 /// The span relative to 1 + |t| below which the predicted remaining time
 /// of a geometric accumulation (Zeno) counts as reached.
 constexpr double kZenoSpan = 1e-9;

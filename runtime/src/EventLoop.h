@@ -37,6 +37,15 @@ enum class EventOutcome {
   Failed      ///< see message()
 };
 
+/// Chattering: more than this many events ...
+inline constexpr size_t kChatterEvents = 50;
+/// ... within this span relative to 1 + |t|. Not 1e-9: a condition that
+/// switches itself back is seen again only after the integrator's first
+/// step from the restart (crossings within round-off do not count,
+/// RootWatch.h), some 1e-10 s. The same rule holds for mode switches,
+/// each a run of its own mode's model (Simulator.cpp).
+inline constexpr double kChatterSpan = 1e-6;
+
 class EventLoop {
 public:
   /// `rtol`: the run's relative tolerance (the scale below which a series

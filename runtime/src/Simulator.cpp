@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
@@ -1141,6 +1142,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   // its switching point would switch for ever).
   int switchesHere = 0;
   double switchTime = NAN;
+  std::deque<double> recentSwitches; // times of the latest mode switches
   while (true) {
     auto end = run.stage(*model, p, cols, carry);
     if (!end)
@@ -1184,6 +1186,22 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     ++res.stats.modeSwitches;
     switchesHere = carry.t == switchTime ? switchesHere + 1 : 1;
     switchTime = carry.t;
+    // Chattering between modes: each switch starts another stage, whose
+    // event loop sees none of the others (a mutant of the stick-slip model
+    // switched every 1.5e-8 s until its CPU time ran out).
+    recentSwitches.push_back(carry.t);
+    if (recentSwitches.size() > kChatterEvents + 1)
+      recentSwitches.pop_front();
+    if (recentSwitches.size() > kChatterEvents &&
+        carry.t - recentSwitches.front() <
+            kChatterSpan * (1 + std::fabs(carry.t))) {
+      res.failure = fmt::format(
+          "chattering at t = {:.10g}: {} mode switches within {:.3g} s; the "
+          "mode values that keep changing: {}",
+          carry.t, recentSwitches.size(), carry.t - recentSwitches.front(),
+          carry.mode);
+      break;
+    }
     if (switchesHere > kMaxModeSwitchesAtOnce) {
       res.failure = fmt::format(
           "the event iteration at t = {:.10g} switched modes {} times "
