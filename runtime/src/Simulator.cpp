@@ -590,7 +590,6 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
                                   const std::vector<int> &,
                                   std::string &) { return true; };
   double t = s_.start;
-  // The rows an event outcome ends the run with; false to go on.
   struct Counted { // the events counted however the walk ends
     SimResult &res;
     const EventLoop &events;
@@ -599,6 +598,7 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
       res.stats.timeEvents += events.timeEvents();
     }
   } counted{res_, events};
+  // The rows an event outcome ends the run with; false to go on.
   auto ended = [&](EventOutcome out) {
     if (out == EventOutcome::Failed) {
       res_.failure = events.message();
@@ -624,6 +624,11 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
   }
   TimeRoots crossing(ev);
   while (t < s_.stop) {
+    if (o_.interrupted && o_.interrupted()) {
+      res_.interrupted = true;
+      res_.failure = fmt::format("interrupted at t = {:.10g}", t);
+      return;
+    }
     double target = k_ <= nOut_ ? gridTime(k_) : s_.stop;
     double timeEvent = events.nextTimeEvent(t, none, none);
     target = std::min(target, timeEvent);
