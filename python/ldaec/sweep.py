@@ -127,6 +127,10 @@ def _run_member(model, spec, index, member):
     return record
 
 
+#: How often a member that ran alone in a task whose worker died runs
+#: again before it counts as the one that kills its worker.
+_MEMBER_TRIES = 2
+
 #: The status of a member whose worker process died running it (a crash
 #: in native code, the operating system's out-of-memory killer).
 WORKER_DIED = -1
@@ -364,7 +368,7 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
         setup = time.perf_counter() - t0
         size = chunk_size or max(1, min(256, math.ceil(
             len(members) / (8 * workers))))
-        chunk_of = {}
+        chunk_of, tries = {}, {}
         for chunk in _chunks(members, size):
             chunk_of[client.submit(run_chunk, spec, chunk, pure=False)] = chunk
         records = []
@@ -372,15 +376,21 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
         # one blocking round trip per chunk. A task whose worker died (Dask
         # retries it on others, then gives up: KilledWorker) loses no other
         # member: its chunk runs again one member per task, and the member
-        # that kills its worker alone is reported, with its parameters.
+        # that kills its worker alone is reported, with its parameters. A
+        # member alone is tried again (_MEMBER_TRIES times): its result may
+        # have been lost with a worker another member killed after it ran.
         pending = distributed.as_completed(list(chunk_of))
         for future in pending:
             chunk = chunk_of.pop(future)
             try:
                 batch = future.result()
             except Exception as e:  # the worker died, or the task failed
-                if len(chunk) > 1:
-                    for member in chunk:
+                single = len(chunk) == 1
+                again = [m for m in chunk
+                         if not single or tries.get(m[0], 0) < _MEMBER_TRIES]
+                if again:
+                    for member in again:
+                        tries[member[0]] = tries.get(member[0], 0) + single
                         f = client.submit(run_chunk, spec, [member],
                                           pure=False)
                         chunk_of[f] = [member]
