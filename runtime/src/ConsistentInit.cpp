@@ -567,6 +567,32 @@ InitOutcome reinitializeAfterEvent(const ModelEval &ev, int set, double t,
   return out;
 }
 
+bool algebraicDerivatives(const ModelEval &ev, int set, double t,
+                          const std::vector<double> &y,
+                          std::vector<double> &yp) {
+  const int *diff = ev.set(set).is_differential;
+  const int n = ev.n();
+  if (std::all_of(diff, diff + n, [](int d) { return d != 0; }))
+    return false;
+  const double dt = 1.4901161193847656e-08 * (1.0 + std::fabs(t));
+  std::vector<double> ahead(n), aheadYp = yp;
+  for (int i = 0; i < n; ++i)
+    ahead[i] = y[i] + dt * yp[i];
+  const int *d = diff;
+  std::vector<int> held;
+  for (int i = 0; i < n; ++i)
+    if (d[i])
+      held.push_back(i);
+  InitOutcome c = reinitializeAfterEvent(ev, set, t + dt, ahead, aheadYp, held,
+                                         nullptr);
+  if (!c.ok || c.nearestPoint)
+    return false;
+  for (int i = 0; i < n; ++i)
+    if (!diff[i] && std::isfinite(c.y[i]))
+      yp[i] = (c.y[i] - y[i]) / dt;
+  return true;
+}
+
 void settleAlgebraic(const ModelEval &ev, int set, double t,
                      std::vector<double> &y, std::vector<double> &yp) {
   const int *diff = ev.set(set).is_differential;

@@ -128,6 +128,14 @@ void reportMoves(const ModelEval &ev, const std::vector<double> &before,
 int countMoves(const ModelEval &ev, const std::vector<double> &before,
                const double *after);
 
+/// The derivatives of the algebraic unknowns at (t, y): the difference
+/// quotient of the point solved sqrt(eps) (1 + |t|) later, the
+/// differential unknowns moved along y'. False (y' unchanged) when there
+/// are none or that point cannot be solved.
+bool algebraicDerivatives(const ModelEval &ev, int set, double t,
+                          const std::vector<double> &y,
+                          std::vector<double> &yp);
+
 /// At a root the integrator's point is its interpolating polynomial's, and
 /// an algebraic unknown's polynomial is not its equation: with the
 /// algebraic unknowns out of the error test (or a mode without states, an
