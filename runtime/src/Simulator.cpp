@@ -20,7 +20,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <string_view>
 #include <deque>
 #include <cmath>
 #include <fmt/format.h>
@@ -526,6 +525,15 @@ public:
                              : 0;
   }
 
+  /// Whether SimOptions::interrupted asks the run to end at t (it then
+  /// says so in the result).
+  bool interrupted(double t) {
+    if (!o_.interrupted || !o_.interrupted())
+      return false;
+    res_.interrupted = true;
+    res_.failure = fmt::format("interrupted at t = {:.10g}", t);
+    return true;
+  }
   /// A model without unknowns: the outputs at the output times.
   void closedForm(const ldae_model &m, const std::vector<double> &params,
                   const std::vector<int> &cols);
@@ -625,11 +633,8 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
   }
   TimeRoots crossing(ev);
   while (t < s_.stop) {
-    if (o_.interrupted && o_.interrupted()) {
-      res_.interrupted = true;
-      res_.failure = fmt::format("interrupted at t = {:.10g}", t);
+    if (interrupted(t))
       return;
-    }
     double target = k_ <= nOut_ ? gridTime(k_) : s_.stop;
     double timeEvent = events.nextTimeEvent(t, none, none);
     target = std::min(target, timeEvent);
@@ -868,8 +873,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   // Rotational.Examples.First, index 3) had y' = 0 there, and the error
   // test failed at every step size down to IDA's limit (the error grew as
   // 1/rtol). Its y' is the difference quotient of the point just ahead.
+  // (An ODE's, CVODE's, unknowns are all differential: nothing to do.)
   if (fromStart && errorTestAlgebraic && span > 0 &&
-      std::string_view(ida.name()) == "IDA" &&
       algebraicDerivatives(ev, ida.set(), t, y, yp)) {
     if (auto re = ida.reinit(ida.set(), t, y.data(), yp.data()); !re) {
       res_.failure = describeSolverError(t, re.error());
@@ -1061,11 +1066,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         !reselectStates(ev, ida, t, std::min(s_.stop, t + s_.interval), res_,
                         o_.log))
       return done(StageEnd::Done);
-    if (o_.interrupted && o_.interrupted()) {
-      res_.interrupted = true;
-      res_.failure = fmt::format("interrupted at t = {:.10g}", t);
+    if (interrupted(t))
       return done(StageEnd::Done);
-    }
     progress_.update(t);
   }
   // The last row is the stop time's; then the terminal event.
