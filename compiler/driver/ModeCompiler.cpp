@@ -1,5 +1,7 @@
 #include "ModeCompiler.h"
 
+#include "ir/Query.h"
+
 #include <chrono>
 #include <sstream>
 
@@ -8,9 +10,21 @@
 namespace ldae::driver {
 
 const ir::Equation *firstVariableIf(const ir::Model &flat) {
-  for (const ir::Equation &e : flat.equations)
+  auto readsZeroParameter = [&](ir::ExprRef e) {
+    for (ir::ParamId p : ir::freeParameters(e))
+      if (p < flat.parameters.size() && flat.parameters[p].value == 0.0)
+        return true;
+    return false;
+  };
+  for (const ir::Equation &e : flat.equations) {
     if (e.residual->kind() == ir::ExprKind::If)
       return &e;
+    for (ir::ExprRef n : ir::topologicalOrder(std::span(&e.residual, 1)))
+      if (n->kind() == ir::ExprKind::If && !n->operand(0)->isConstant() &&
+          (readsZeroParameter(n->operand(1)) ||
+           readsZeroParameter(n->operand(2))))
+        return &e;
+  }
   return nullptr;
 }
 

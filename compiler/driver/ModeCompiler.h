@@ -17,10 +17,11 @@
 
 namespace ldae::driver {
 
-/// The first equation of `flat` that is an if-equation on a condition not
-/// known at compile time (the frontend merges one into a residual
-/// `if c then r1 else r2`), or null: only then can a mode change the
-/// structure.
+/// The first equation of `flat` that is an if-equation (the frontend
+/// merges one into a residual `if c then r1 else r2`) or holds an
+/// if-expression on a condition not known at compile time with a parameter
+/// of value 0 in a branch, or null: only then can a mode change the
+/// structure (the events pass decides).
 const ir::Equation *firstVariableIf(const ir::Model &flat);
 
 class ModeCompiler {

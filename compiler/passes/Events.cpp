@@ -731,21 +731,75 @@ std::vector<ir::VarKey> incidence(ir::ExprRef e) {
 
 void EventBuilder::chooseMode() {
   // An if-equation (a residual `if c then r1 else r2`, elseif chains
-  // nested in the else branch) whose branches read different unknowns:
-  // the discrete values in c choose the structure.
+  // nested in the else branch) whose branches read different unknowns: the
+  // discrete values in c choose the structure. So does an if-expression
+  // whose branches leave the residual reading different unknowns only
+  // because a parameter in one of them is 0 (the MSL ideal diode's
+  // `v = s * (if off then 1 else Ron)` with Ron = 0 drops s when
+  // conducting): such a parameter is folded and fixes the structure. An
+  // if-expression that reads different unknowns whatever the parameters
+  // (a limiter's `if u > uMax then uMax else u`) keeps one structure, or
+  // every limiter would double the modes.
+  ir::Substitution zeros(ctx_);
+  for (ir::ParamId p = 0; p < out_.base; ++p)
+    if (m_.parameters[p].value == 0.0)
+      zeros.set(ctx_.param(p), ctx_.constant(0.0));
+  auto chosenBy = [&](ir::ExprRef r) {
+    std::vector<uint32_t> slots;
+    for (ir::ParamId p : ir::freeParameters(r->operand(0)))
+      if (p >= out_.current(0) && p < out_.pre(0))
+        slots.push_back(p - out_.base);
+    return slots;
+  };
   std::set<uint32_t> mode;
-  std::function<void(ir::ExprRef)> visit = [&](ir::ExprRef r) {
+  std::function<void(ir::ExprRef)> visitIfEquation = [&](ir::ExprRef r) {
     if (r->kind() != ir::ExprKind::If)
       return;
     if (incidence(r->operand(1)) != incidence(r->operand(2)))
-      for (ir::ParamId p : ir::freeParameters(r->operand(0)))
-        if (p >= out_.current(0) && p < out_.pre(0))
-          mode.insert(p - out_.base);
-    visit(r->operand(1));
-    visit(r->operand(2));
+      for (uint32_t k : chosenBy(r))
+        mode.insert(k);
+    visitIfEquation(r->operand(1));
+    visitIfEquation(r->operand(2));
   };
-  for (const ir::Equation &e : m_.equations)
-    visit(e.residual);
+  std::set<ir::ParamId> folded;
+  auto visitIfExpression = [&](ir::ExprRef residual, ir::ExprRef r) {
+    std::vector<ir::ParamId> zero;
+    for (int b = 1; b <= 2; ++b)
+      for (ir::ParamId p : ir::freeParameters(r->operand(b)))
+        if (p < out_.base && m_.parameters[p].value == 0.0)
+          zero.push_back(p);
+    std::vector<uint32_t> slots = chosenBy(r);
+    if (zero.empty() || slots.empty())
+      return;
+    auto pick = [&](ir::ExprRef branch, ir::Substitution *then) {
+      ir::Substitution s(ctx_);
+      s.set(r, branch);
+      ir::ExprRef picked = s.apply(residual);
+      return incidence(then ? then->apply(picked) : picked);
+    };
+    if (pick(r->operand(1), nullptr) != pick(r->operand(2), nullptr) ||
+        pick(r->operand(1), &zeros) == pick(r->operand(2), &zeros))
+      return;
+    mode.insert(slots.begin(), slots.end());
+    folded.insert(zero.begin(), zero.end());
+  };
+  for (const ir::Equation &e : m_.equations) {
+    visitIfEquation(e.residual);
+    for (ir::ExprRef r : ir::topologicalOrder(std::span(&e.residual, 1)))
+      if (r->kind() == ir::ExprKind::If)
+        visitIfExpression(e.residual, r);
+  }
+  if (!folded.empty()) {
+    ir::Substitution fold(ctx_);
+    for (ir::ParamId p : folded) {
+      fold.set(ctx_.param(p), ctx_.constant(0.0));
+      m_.parameters[p].structural = true;
+    }
+    for (ir::Equation &e : m_.equations)
+      e.residual = fold.apply(e.residual);
+    for (ir::Equation &e : m_.initialEquations)
+      e.residual = fold.apply(e.residual);
+  }
   if (mode.empty())
     return;
   out_.modeDiscrete.assign(mode.begin(), mode.end());

@@ -1185,6 +1185,16 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
       break;
     }
     model = *next;
+    if (model->n == 0) {
+      // SUNDIALS takes no empty system, and the walk without unknowns
+      // (Run::closedForm) starts only at the start time.
+      res.failure = fmt::format(
+          "t = {:.10g}: the new mode ({}) leaves no unknown to integrate "
+          "(every variable is fixed by its equations); a run that enters "
+          "such a mode is not supported",
+          carry.t, carry.mode);
+      break;
+    }
     auto np = modeParams(*model, o, carry.t);
     std::vector<std::string> names = Reportable(*model).names;
     std::vector<int> nextCols;

@@ -411,14 +411,14 @@ def piece_value(pieces, t, after):
     return pieces[-1][2](t)
 
 
-def rectifier(c, model, pieces, off_bound):
+def rectifier(c, model, pieces, off_bound, extra=()):
     # The check is about the events, at rtol = atol = 1e-10 without the
     # algebraic error test: with it, the restart after a turn-off finds the
     # indicator at zero again within IDA's smallest step (IDARcheck2, exit
     # 3).
     r = c.run(model, ["--rtol", "1e-10", "--atol", "1e-10", "--outputs",
                       "c.v,diode.i,diode.v", "--stats",
-                      "--algebraic-error-test", "off"])
+                      "--algebraic-error-test", "off"] + list(extra))
     if not r:
         return
     _, rows, err = r
@@ -489,6 +489,46 @@ def half_wave_rectifier(c):
 
 def half_wave_rectifier_switch(c):
     rectifier(c, "half_wave_rectifier_switch.lsd", switch_reference(), 1e-8)
+
+
+def half_wave_rectifier_ideal(c):
+    """Seed 002's ideal diode in the curve-parameter form with Ron = Goff =
+    0: exactly the switch. Conducting, v = 0 drops s from the voltage
+    equation and ties c.v to the source (index 2 in that mode); blocking,
+    i = 0. The zero parameters fix the structure of each mode."""
+    for method in ("dd", "sga"):
+        print("-- --method %s" % method)
+        rectifier(c, "half_wave_rectifier.lsd", switch_reference(), 1e-8,
+                  ["--param", "diode.Ron=0", "--param", "diode.Goff=0",
+                   "--method", method])
+
+
+def lcs_switch(c):
+    """Seed 002's jump rule under every method, with output times on the
+    switch: before it x1 = e^-t, x2 = e^-t - e^-2t; at t = 1 x1 jumps to
+    -x2(1) along B; after it x2' = -3 x2, x1 = -x2."""
+    x2s = math.exp(-1) - math.exp(-2)
+    times = [0.5, 1.0, 1.5, 2.0]
+    for method in ("dd", "sga", "ode"):
+        r = c.run("lcs_switch.lsd", ["--method", method, "--output-times",
+                                     ",".join(map(str, times)),
+                                     "--outputs", "x1,x2"])
+        if not r:
+            continue
+        _, rows, _ = r
+        c.check([row["time"] for row in rows] == [0, 0.5, 1, 1, 1.5, 2],
+                "%s: rows at 0, 0.5, 1 (before and after the switch), 1.5, "
+                "2" % method)
+        if len(rows) != 6:
+            continue
+        want = [(1, 0), (math.exp(-0.5), math.exp(-0.5) - math.exp(-1)),
+                (math.exp(-1), x2s), (-x2s, x2s),
+                (-x2s * math.exp(-1.5), x2s * math.exp(-1.5)),
+                (-x2s * math.exp(-3), x2s * math.exp(-3))]
+        err = max(max(abs(row["x1"] - a), abs(row["x2"] - b))
+                  for row, (a, b) in zip(rows, want))
+        c.check(err <= 1e-7, "%s: x1, x2 against the closed form to 1e-7 "
+                "(max %.2e)" % (method, err))
 
 
 # ---- hysteresis, sampled PI, chatter ---------------------------------------
@@ -757,8 +797,9 @@ def emit_c(c):
 CASES = {f.__name__: f for f in (
     bouncing_ball, bouncing_ball_zeno, two_capacitors_switch,
     two_capacitors_resistor, two_capacitors_joined, half_wave_rectifier,
-    half_wave_rectifier_switch, hysteresis, sampled_pi, chatter,
-    features, iteration_limit, algebraic_condition, emit_c)}
+    half_wave_rectifier_switch, half_wave_rectifier_ideal, lcs_switch,
+    hysteresis,
+    sampled_pi, chatter, features, iteration_limit, algebraic_condition, emit_c)}
 # The same checks with the LLVM JIT (--jit auto interprets these small
 # models).
 JIT = ("bouncing_ball", "two_capacitors_switch", "half_wave_rectifier",
