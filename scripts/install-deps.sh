@@ -19,7 +19,7 @@ PACKAGES=(
   libeigen3-dev libfmt-dev libgtest-dev libcli11-dev nlohmann-json3-dev
   gnuplot-nox python3-matplotlib python3-scipy
   # Results, the Python module and sweeps (docs/results.md, docs/python.md).
-  libmatio-dev pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest
   python3-dask python3-distributed
 )
 # Debian's source packages, for apt-get source sundials.

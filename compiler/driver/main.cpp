@@ -238,6 +238,19 @@ static int run(int argc, char **argv) {
   sim.interrupted = [] { return driver::InterruptGuard::received() != 0; };
   if (!opts.sweep.empty())
     return runSweep(c, opts, sim, format);
+  // The rows go to the result file as the run produces them, so a long run
+  // holds none of them (docs/results.md); a plot needs them all.
+  const std::string outPath =
+      opts.outputFile.empty() ? std::string("-") : opts.outputFile;
+  std::unique_ptr<runtime::ResultFile> file;
+  if (opts.plotFile.empty()) {
+    auto opened = runtime::ResultFile::open(outPath, format);
+    if (!opened)
+      return reportError(c.diagnostics(), DiagId::ErrorGeneric, opened.error(),
+                         1);
+    file = std::move(*opened);
+    sim.rowSink = file.get();
+  }
   Expected<runtime::SimResult> result = c.simulate(sim);
   if (!result)
     return reportError(c.diagnostics(), DiagId::ErrSimulationOptions,
@@ -248,18 +261,19 @@ static int run(int argc, char **argv) {
     std::cerr << fmt::format("ldaec: {}: the run stopped at t = {:.10g}; its "
                              "{} rows are written to {}\n",
                              signal == SIGINT ? "SIGINT" : "SIGTERM",
-                             result->rows.empty() ? 0.0
-                                                  : result->rows.back()[0],
-                             result->rows.size(),
-                             opts.outputFile.empty() || opts.outputFile == "-"
-                                 ? std::string("standard output")
-                                 : "'" + opts.outputFile + "'");
+                             result->lastTime, result->rowCount,
+                             outPath == "-" ? std::string("standard output")
+                                            : "'" + outPath + "'");
   else if (result->status != 0)
     reportError(c.diagnostics(), DiagId::ErrSimulationFailed, result->failure,
                 3);
-  Expected<bool> written = runtime::writeResult(
-      *result, opts.outputFile.empty() ? std::string("-") : opts.outputFile,
-      format);
+  Expected<bool> written = file ? file->finish(*result)
+                                : runtime::writeResult(*result, outPath,
+                                                       format);
+  // A row the file refused ended the run: that is the error to report
+  // (the file's own outcome says also what became of the partial file).
+  if (written && !result->writeFailure.empty())
+    written = Error{result->writeFailure};
   if (!written)
     return reportError(c.diagnostics(), DiagId::ErrorGeneric, written.error(),
                        1);

@@ -209,6 +209,11 @@ int run(const ldae_model &m, int argc, char **argv) {
                 fmt::format("cannot write '{}'", args.outPath));
 
   args.sim.log = &std::cerr;
+  // The rows go to the file as the run produces them (docs/results.md).
+  auto file = ResultFile::open(args.outPath, *format);
+  if (!file)
+    return fail(kBadCommandLine, file.error());
+  args.sim.rowSink = file->get();
   Expected<SimResult> result = simulate(m, args.sim);
   if (!result)
     return fail(kBadCommandLine, result.error());
@@ -217,7 +222,10 @@ int run(const ldae_model &m, int argc, char **argv) {
     fail(kFailed, result->failure);
     rc = kFailed;
   }
-  if (auto written = writeResult(*result, args.outPath, *format); !written)
+  Expected<bool> written = (*file)->finish(*result);
+  if (written && !result->writeFailure.empty())
+    written = Error{result->writeFailure};
+  if (!written)
     return fail(kInternal, written.error());
   if (args.stats)
     printStats(result->stats, std::cerr);

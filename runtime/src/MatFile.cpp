@@ -1,68 +1,62 @@
-// MATLAB v4 files through libmatio (see MatFile.h). libmatio is loaded
-// when the first file is written, not linked: it brings HDF5, curl, TLS
-// and Kerberos with it (35 shared libraries), which every ldaec process
-// would map at start-up though few write a .mat file (docs/results.md).
+// MATLAB v4 files (see MatFile.h), written from MathWorks' "MAT-File
+// Format" (Level 4): each matrix is a header of five 32-bit integers (type
+// MOPT, rows, columns, imaginary flag, name length with its NUL), the name,
+// then the elements column by column. Written here rather than through
+// libmatio, which writes a matrix only whole: the trajectories of a long
+// run go to the file as they come, and their count is patched into the
+// header at the end (docs/results.md).
 #include "MatFile.h"
 
 #include <algorithm>
+#include <bit>
+#include <cerrno>
 #include <cstdio>
-#include <dlfcn.h>
+#include <cstring>
 #include <sys/stat.h>
 #include <fmt/format.h>
-#include <matio.h>
 
 namespace ldae::runtime {
 
+static_assert(std::endian::native == std::endian::little,
+              "the v4 files are written little-endian (MOPT M = 0)");
+
 namespace {
 
-/// The libmatio functions MatFile uses, resolved once.
-struct Matio {
-  decltype(&Mat_CreateVer) createVer = nullptr;
-  decltype(&Mat_Close) close = nullptr;
-  decltype(&Mat_VarCreate) varCreate = nullptr;
-  decltype(&Mat_VarWrite) varWrite = nullptr;
-  decltype(&Mat_VarFree) varFree = nullptr;
-  std::string error; // why it could not be loaded ("" when loaded)
-};
-
-template <typename F> bool resolve(void *lib, const char *name, F &fn) {
-  fn = reinterpret_cast<F>(dlsym(lib, name));
-  return fn != nullptr;
-}
-
-const Matio &matio() {
-  static const Matio m = [] {
-    Matio m;
-    void *lib = dlopen(LDAE_MATIO_LIBRARY, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-      const char *why = dlerror();
-      m.error = fmt::format("cannot load libmatio ({}): {}", LDAE_MATIO_LIBRARY,
-                            why ? why : "unknown error");
-      return m;
-    }
-    if (!resolve(lib, "Mat_CreateVer", m.createVer) ||
-        !resolve(lib, "Mat_Close", m.close) ||
-        !resolve(lib, "Mat_VarCreate", m.varCreate) ||
-        !resolve(lib, "Mat_VarWrite", m.varWrite) ||
-        !resolve(lib, "Mat_VarFree", m.varFree))
-      m.error = fmt::format("{} lacks the functions ldaec writes with",
-                            LDAE_MATIO_LIBRARY);
-    return m;
-  }();
-  return m;
-}
+/// MOPT of a full double matrix and of a text matrix of bytes.
+constexpr int32_t kDouble = 0, kText = 51;
 
 } // namespace
 
 struct MatFile::Handle {
-  mat_t *mat = nullptr;
+  std::FILE *file = nullptr;
   std::string path;
-  /// What the variables written take in a MATLAB v4 file: matio does not
-  /// say when a write fails (a full disk), the file's size does.
-  uint64_t bytes = 0;
+  std::string failure; // the first failed write ("" while all went well)
+  long lastData = -1;  // offset of the last writeMatrix's elements
+  size_t lastRows = 0, lastCols = 0;
+  long openHeader = -1; // offset of beginColumns' header
+  size_t openRows = 0, openCols = 0;
+
   ~Handle() {
-    if (mat)
-      matio().close(mat);
+    if (file)
+      std::fclose(file);
+  }
+  bool put(const void *data, size_t bytes) {
+    if (!failure.empty())
+      return false;
+    errno = 0;
+    if (bytes != 0 && std::fwrite(data, 1, bytes, file) != bytes) {
+      failure = errno ? std::strerror(errno) : "write error";
+      return false;
+    }
+    return true;
+  }
+  bool header(int32_t type, size_t rows, size_t cols, const std::string &name) {
+    int32_t h[5] = {type, int32_t(rows), int32_t(cols), 0,
+                    int32_t(name.size() + 1)};
+    return put(h, sizeof h) && put(name.c_str(), name.size() + 1);
+  }
+  Error error(const std::string &what) const {
+    return Error{fmt::format("cannot write {}'{}': {}", what, path, failure)};
   }
 };
 
@@ -72,96 +66,128 @@ MatFile &MatFile::operator=(MatFile &&) noexcept = default;
 MatFile::~MatFile() = default;
 
 Expected<MatFile> MatFile::create(const std::string &path) {
-  if (!matio().error.empty())
-    return Error{fmt::format("cannot write '{}': {}", path, matio().error)};
   auto h = std::make_unique<Handle>();
   h->path = path;
-  h->mat = matio().createVer(path.c_str(), nullptr, MAT_FT_MAT4);
-  if (!h->mat)
-    return Error{fmt::format("cannot write '{}'", path)};
+  errno = 0;
+  h->file = std::fopen(path.c_str(), "wb");
+  if (!h->file)
+    return Error{fmt::format("cannot write '{}': {}", path,
+                             errno ? std::strerror(errno) : "open failed")};
   return MatFile(std::move(h));
 }
 
 namespace {
 
-/// A v4 variable in the file: a 20-byte header, the name with its NUL,
-/// the elements.
-uint64_t v4Bytes(const std::string &name, size_t rows, size_t cols,
-                 size_t element) {
-  return 20 + name.size() + 1 + uint64_t(rows) * cols * element;
-}
-
-/// Writes one variable; matio copies `data`, so it may be a temporary.
-bool writeVar(mat_t *mat, const std::string &name, matio_classes cls,
-              matio_types type, size_t rows, size_t cols, const void *data) {
-  size_t dims[2] = {rows, cols};
-  matvar_t *var = matio().varCreate(name.c_str(), cls, type, 2, dims,
-                                    const_cast<void *>(data), 0);
-  if (!var)
-    return false;
-  int rc = matio().varWrite(mat, var, MAT_COMPRESSION_NONE);
-  matio().varFree(var);
-  return rc == 0;
+/// A v4 matrix holds at most 2^31 - 1 rows and columns.
+bool fits(size_t rows, size_t cols) {
+  return rows <= size_t(INT32_MAX) && cols <= size_t(INT32_MAX);
 }
 
 } // namespace
 
 Expected<bool> MatFile::writeMatrix(const std::string &name, size_t rows,
                                     size_t cols, const double *data) {
-  static const double kNone = 0;
-  if (!handle_ || !handle_->mat)
-    return Error{fmt::format("'{}' is closed", name)};
-  if (!writeVar(handle_->mat, name, MAT_C_DOUBLE, MAT_T_DOUBLE, rows, cols,
-                rows != 0 && cols != 0 ? data : &kNone))
-    return Error{fmt::format("cannot write '{}' to '{}'", name, handle_->path)};
-  handle_->bytes += v4Bytes(name, rows, cols, sizeof(double));
+  Handle &h = *handle_;
+  if (!fits(rows, cols))
+    return Error{fmt::format("'{}' is too large for a v4 file", name)};
+  if (!h.header(kDouble, rows, cols, name))
+    return h.error("");
+  h.lastData = std::ftell(h.file);
+  h.lastRows = rows;
+  h.lastCols = cols;
+  if (!h.put(data, rows * cols * sizeof(double)))
+    return h.error("");
+  return true;
+}
+
+Expected<bool> MatFile::overwriteLast(size_t r, size_t c, double value) {
+  Handle &h = *handle_;
+  if (h.lastData < 0 || r >= h.lastRows || c >= h.lastCols)
+    return Error{fmt::format("no element ({}, {}) to overwrite in '{}'", r, c,
+                             h.path)};
+  long end = std::ftell(h.file);
+  long at = h.lastData + long((r + c * h.lastRows) * sizeof(double));
+  if (std::fseek(h.file, at, SEEK_SET) != 0 || !h.put(&value, sizeof value) ||
+      std::fseek(h.file, end, SEEK_SET) != 0) {
+    if (h.failure.empty())
+      h.failure = std::strerror(errno);
+    return h.error("");
+  }
   return true;
 }
 
 Expected<bool> MatFile::writeStrings(const std::string &name,
                                      const std::vector<std::string> &strings,
                                      bool byColumns) {
-  if (!handle_ || !handle_->mat)
-    return Error{fmt::format("'{}' is closed", name)};
+  Handle &h = *handle_;
   size_t width = 1; // a char matrix of no columns reads back badly
   for (const std::string &s : strings)
     width = std::max(width, s.size());
-  size_t n = strings.size();
-  std::vector<unsigned char> chars(std::max<size_t>(n, 1) * width, ' ');
-  for (size_t i = 0; i < n; ++i)
+  size_t n = std::max<size_t>(strings.size(), 1);
+  std::vector<unsigned char> chars(n * width, ' ');
+  for (size_t i = 0; i < strings.size(); ++i)
     for (size_t j = 0; j < strings[i].size(); ++j)
       // Column-major: by columns string i fills column i of width rows.
       chars[byColumns ? j + i * width : i + j * n] =
           static_cast<unsigned char>(strings[i][j]);
   size_t rows = byColumns ? width : n, cols = byColumns ? n : width;
-  if (!writeVar(handle_->mat, name, MAT_C_CHAR, MAT_T_UINT8, rows, cols,
-                chars.data()))
-    return Error{fmt::format("cannot write '{}' to '{}'", name, handle_->path)};
-  handle_->bytes += v4Bytes(name, rows, cols, 1);
+  if (!fits(rows, cols))
+    return Error{fmt::format("'{}' is too large for a v4 file", name)};
+  if (!h.header(kText, rows, cols, name) || !h.put(chars.data(), chars.size()))
+    return h.error("");
+  return true;
+}
+
+Expected<bool> MatFile::beginColumns(const std::string &name, size_t rows) {
+  Handle &h = *handle_;
+  if (!fits(rows, 0))
+    return Error{fmt::format("'{}' is too large for a v4 file", name)};
+  h.openHeader = std::ftell(h.file);
+  h.openRows = rows;
+  h.openCols = 0;
+  if (!h.header(kDouble, rows, 0, name))
+    return h.error("");
+  return true;
+}
+
+Expected<bool> MatFile::appendColumn(const double *column) {
+  Handle &h = *handle_;
+  if (h.openCols == size_t(INT32_MAX))
+    return Error{fmt::format("'{}' has more columns than a v4 file holds",
+                             h.path)};
+  if (!h.put(column, h.openRows * sizeof(double)))
+    return h.error("");
+  ++h.openCols;
   return true;
 }
 
 Expected<bool> MatFile::close() {
-  if (!handle_ || !handle_->mat)
+  Handle &h = *handle_;
+  if (!h.file)
     return true;
-  int rc = matio().close(handle_->mat);
-  handle_->mat = nullptr;
-  const std::string &path = handle_->path;
-  if (rc != 0)
-    return Error{fmt::format("cannot write '{}'", path)};
-  struct stat st;
-  if (path == "/dev/null")
-    return true;
-  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
-    return Error{fmt::format("cannot write '{}': not a regular file", path)};
-  if (uint64_t(st.st_size) != handle_->bytes) {
-    std::remove(path.c_str());
-    return Error{fmt::format("cannot write '{}': {} of its {} bytes reached "
-                             "the file (is the disk full?); the partial file "
-                             "was removed",
-                             path, uint64_t(st.st_size), handle_->bytes)};
+  if (h.openHeader >= 0 && h.failure.empty()) {
+    // The column count, the header's third integer.
+    int32_t cols = int32_t(h.openCols);
+    if (std::fseek(h.file, h.openHeader + 2 * long(sizeof(int32_t)),
+                   SEEK_SET) != 0)
+      h.failure = std::strerror(errno);
+    else
+      h.put(&cols, sizeof cols);
   }
-  return true;
+  errno = 0;
+  if (std::fflush(h.file) != 0 && h.failure.empty())
+    h.failure = errno ? std::strerror(errno) : "write error";
+  if (std::fclose(h.file) != 0 && h.failure.empty())
+    h.failure = errno ? std::strerror(errno) : "write error";
+  h.file = nullptr;
+  if (h.failure.empty())
+    return true;
+  // Never passed off as whole: a partial regular file goes.
+  struct stat st;
+  bool removed = ::stat(h.path.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+                 std::remove(h.path.c_str()) == 0;
+  return Error{fmt::format("cannot write '{}': {}{}", h.path, h.failure,
+                           removed ? " (the partial file was removed)" : "")};
 }
 
 } // namespace ldae::runtime

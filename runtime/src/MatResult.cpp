@@ -1,11 +1,14 @@
 // The OpenModelica/Dymola result layout on a MatFile (see MatResult.h).
 // Written from OpenModelica's user's guide, "The MATv4 Result File
-// Format": in the transposed layout ("binTrans") each stored matrix is the
-// transpose of the documented one, so a row of data_2 on disk is one time
-// point and each name is one column of `name`.
+// Format", with the orientation its reader (read_matlab4.c) takes for
+// "binTrans": `name` and `description` hold one variable per column,
+// dataInfo is 4 x n, data_1 is (parameters x 2) with time as row 1, and
+// data_2 is (variables x time points), so that each time point is one
+// column, contiguous on disk and appended as the run produces it.
 #include "MatResult.h"
 #include "MatFile.h"
 
+#include <optional>
 #include <unordered_map>
 
 namespace ldae::runtime {
@@ -88,42 +91,88 @@ Layout layOut(const SimResult &r) {
   return l;
 }
 
+/// The .mat file written as the run goes: the variables' names and info
+/// once the columns are known, data_1 with the first row's time, a column
+/// of data_2 per row, the stop time and data_2's column count at the end.
+class MatResultFile : public ResultFile {
+public:
+  explicit MatResultFile(std::string path) : path_(std::move(path)) {}
+
+  Expected<bool> begin(const SimResult &header) override {
+    layout_ = layOut(header);
+    return true;
+  }
+
+  Expected<bool> row(const std::vector<double> &row) override {
+    if (!file_)
+      if (auto ok = start(row[0]); !ok)
+        return ok;
+    for (size_t j = 0; j < layout_.stored.size(); ++j)
+      column_[j] = row[layout_.stored[j]];
+    lastTime_ = row[0];
+    return file_->appendColumn(column_.data());
+  }
+
+  Expected<bool> finish(const SimResult &result) override {
+    if (!file_) {
+      if (layout_.names.empty())
+        layout_ = layOut(result);
+      if (auto ok = start(0); !ok)
+        return ok;
+    }
+    auto stop = file_->overwriteLast(0, 1, lastTime_);
+    auto closed = file_->close();
+    return !closed ? closed : stop;
+  }
+
+private:
+  /// Everything before data_2's columns; data_1's stop time is `t0` until
+  /// finish() knows it.
+  Expected<bool> start(double t0) {
+    auto file = MatFile::create(path_);
+    if (!file)
+      return Error{file.error()};
+    file_.emplace(std::move(*file));
+    lastTime_ = t0;
+    const Layout &l = layout_;
+    const size_t n = l.names.size(), np = l.paramValues.size();
+    std::vector<double> info; // 4 x n, column i is dataInfo(i, :)
+    for (const Where &w : l.where)
+      info.insert(info.end(), {double(w.block), double(w.index),
+                               double(w.interpolation),
+                               double(w.extrapolation)});
+    // data_1: (1 + parameters) x 2, start values in the first column,
+    // stop values in the second; row 1 is time.
+    std::vector<double> data1;
+    for (int side = 0; side < 2; ++side) {
+      data1.push_back(t0);
+      data1.insert(data1.end(), l.paramValues.begin(), l.paramValues.end());
+    }
+    column_.assign(l.stored.size(), 0.0);
+    for (auto ok :
+         {file_->writeStrings("Aclass", {"Atrajectory", "1.1", "", "binTrans"},
+                              false),
+          file_->writeStrings("name", l.names, true),
+          file_->writeStrings("description", l.descriptions, true),
+          file_->writeMatrix("dataInfo", 4, n, info.data()),
+          file_->writeMatrix("data_1", 1 + np, 2, data1.data()),
+          file_->beginColumns("data_2", l.stored.size())})
+      if (!ok)
+        return ok;
+    return true;
+  }
+
+  std::string path_;
+  Layout layout_;
+  std::optional<MatFile> file_;
+  std::vector<double> column_;
+  double lastTime_ = 0;
+};
+
 } // namespace
 
-Expected<bool> writeMat(const SimResult &r, const std::string &path) {
-  Layout l = layOut(r);
-  auto file = MatFile::create(path);
-  if (!file)
-    return Error{file.error()};
-  const size_t n = l.names.size(), nt = r.rows.size();
-
-  std::vector<double> info; // 4 x n, column i is dataInfo(i, :)
-  for (const Where &w : l.where)
-    info.insert(info.end(), {double(w.block), double(w.index),
-                             double(w.interpolation), double(w.extrapolation)});
-  // data_1: 2 x (1 + parameters), the values at start and stop time.
-  double t0 = nt ? r.rows.front()[0] : 0, tf = nt ? r.rows.back()[0] : 0;
-  std::vector<double> data1{t0, tf};
-  for (double v : l.paramValues)
-    data1.insert(data1.end(), {v, v});
-  // data_2: nt x stored, one time point per row.
-  std::vector<double> data2(nt * l.stored.size());
-  for (size_t j = 0; j < l.stored.size(); ++j)
-    for (size_t t = 0; t < nt; ++t)
-      data2[t + j * nt] = r.rows[t][l.stored[j]];
-
-  for (auto ok :
-       {file->writeStrings("Aclass", {"Atrajectory", "1.1", "", "binTrans"},
-                           false),
-        file->writeStrings("name", l.names, true),
-        file->writeStrings("description", l.descriptions, true),
-        file->writeMatrix("dataInfo", 4, n, info.data()),
-        file->writeMatrix("data_1", 2, 1 + l.paramValues.size(), data1.data()),
-        file->writeMatrix("data_2", nt, l.stored.size(), data2.data()),
-        file->close()})
-    if (!ok)
-      return ok;
-  return true;
+std::unique_ptr<ResultFile> matResultFile(const std::string &path) {
+  return std::make_unique<MatResultFile>(path);
 }
 
 } // namespace ldae::runtime

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string_view>
 #include <unordered_map>
 
@@ -46,64 +47,165 @@ static std::string csvField(const std::string &s) {
   return q + "\"";
 }
 
-// Numbers go straight into one buffer written in large blocks: formatting
-// a string per value ran at 45 MB/s, slower than integrating a large model.
-void writeCsv(const SimResult &result, std::ostream &out) {
-  std::string header;
-  for (size_t c = 0; c < result.columns.size(); ++c)
-    header += (c ? "," : "") + csvField(result.columns[c]);
-  out << header << '\n';
-  constexpr size_t kBlock = 1 << 20;
-  // Not zero-filled: a small result then touches only the pages it writes
-  // (zeroing the whole block cost a 13-row run 1 M instructions and 256
-  // page faults).
-  auto buf = std::make_unique_for_overwrite<char[]>(kBlock + kMaxNumberChars + 2);
-  char *at = buf.get();
-  for (const auto &row : result.rows) {
+namespace {
+
+/// CSV text into a stream: the header, then rows through one buffer
+/// written in large blocks (formatting a string per value ran at 45 MB/s,
+/// slower than integrating a large model).
+class CsvStream {
+public:
+  static constexpr size_t kBlock = 1 << 20;
+
+  explicit CsvStream(std::ostream &out) : out_(out) {}
+
+  void header(const SimResult &result) {
+    std::string text;
+    for (size_t c = 0; c < result.columns.size(); ++c)
+      text += (c ? "," : "") + csvField(result.columns[c]);
+    out_ << text << '\n';
+  }
+  /// False when a block could not be written (the stream says why).
+  bool row(const std::vector<double> &row) {
+    if (!buf_) {
+      // Not zero-filled: a small result then touches only the pages it
+      // writes (zeroing the whole block cost a 13-row run 1 M
+      // instructions and 256 page faults).
+      buf_ = std::make_unique_for_overwrite<char[]>(kBlock +
+                                                    kMaxNumberChars + 2);
+      at_ = buf_.get();
+    }
     for (size_t c = 0; c < row.size(); ++c) {
       if (c)
-        *at++ = ',';
-      at = putValue(at, row[c]);
-      if (at - buf.get() >= static_cast<ptrdiff_t>(kBlock)) {
-        out.write(buf.get(), at - buf.get());
-        at = buf.get();
-      }
+        *at_++ = ',';
+      at_ = putValue(at_, row[c]);
+      if (at_ - buf_.get() >= static_cast<ptrdiff_t>(kBlock) && !drain())
+        return false;
     }
-    *at++ = '\n';
-  }
-  out.write(buf.get(), at - buf.get());
-  out.flush();
-}
-
-Expected<bool> writeCsv(const SimResult &result, const std::string &path) {
-  // Every write is checked, with the reason (a full disk says so); a file
-  // that could not be written whole is removed, never passed off as whole.
-  if (path == "-") {
-    errno = 0;
-    writeCsv(result, std::cout);
-    if (!std::cout)
-      return Error{fmt::format("cannot write the results to standard output: "
-                               "{}",
-                               errno ? std::strerror(errno) : "write error")};
+    *at_++ = '\n';
     return true;
   }
-  errno = 0;
-  std::ofstream f(path);
-  if (!f)
-    return Error{fmt::format("cannot write '{}': {}", path,
-                             errno ? std::strerror(errno) : "open failed")};
-  writeCsv(result, f);
-  f.close();
-  if (!f) {
-    int why = errno;
-    struct stat st;
-    bool removed = ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
-                   std::remove(path.c_str()) == 0;
-    return Error{fmt::format("cannot write '{}': {}{}", path,
-                             why ? std::strerror(why) : "write error",
-                             removed ? " (the partial file was removed)" : "")};
+  /// Writes what is buffered and flushes the stream; false on an error.
+  bool flush() {
+    drain();
+    out_.flush();
+    return bool(out_);
   }
-  return true;
+
+private:
+  bool drain() {
+    if (buf_)
+      out_.write(buf_.get(), at_ - buf_.get());
+    at_ = buf_.get();
+    return bool(out_);
+  }
+
+  std::ostream &out_;
+  std::unique_ptr<char[]> buf_;
+  char *at_ = nullptr;
+};
+
+/// A CSV result file, or standard output ("-"), written as the run goes.
+class CsvResultFile : public ResultFile {
+public:
+  explicit CsvResultFile(std::string path) : path_(std::move(path)) {}
+
+  Expected<bool> begin(const SimResult &header) override {
+    errno = 0;
+    if (path_ != "-") {
+      file_.open(path_);
+      if (!file_)
+        return Error{fmt::format("cannot write '{}': {}", path_,
+                                 errno ? std::strerror(errno) : "open failed")};
+    }
+    csv_.emplace(path_ == "-" ? std::cout : file_);
+    csv_->header(header);
+    return true;
+  }
+
+  Expected<bool> row(const std::vector<double> &row) override {
+    errno = 0;
+    if (!csv_->row(row))
+      return failed(errno);
+    return true;
+  }
+
+  Expected<bool> finish(const SimResult &result) override {
+    if (failure_)
+      return *failure_;
+    if (!csv_)
+      if (auto ok = begin(result); !ok)
+        return ok;
+    errno = 0;
+    bool ok = csv_->flush();
+    if (path_ != "-") {
+      file_.close();
+      ok = ok && bool(file_);
+    }
+    if (!ok)
+      return failed(errno);
+    return true;
+  }
+
+private:
+  /// Every write is checked, with the reason (a full disk says so); a file
+  /// that could not be written whole is removed. The first failure is the
+  /// file's outcome.
+  Error failed(int why) {
+    if (failure_)
+      return *failure_;
+    std::string reason = why ? std::strerror(why) : "write error";
+    if (path_ == "-") {
+      failure_ = Error{fmt::format(
+          "cannot write the results to standard output: {}", reason)};
+      return *failure_;
+    }
+    file_.close();
+    struct stat st;
+    bool removed = ::stat(path_.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+                   std::remove(path_.c_str()) == 0;
+    failure_ = Error{fmt::format("cannot write '{}': {}{}", path_, reason,
+                                 removed ? " (the partial file was removed)"
+                                         : "")};
+    return *failure_;
+  }
+
+  std::string path_;
+  std::ofstream file_;
+  std::optional<CsvStream> csv_;
+  std::optional<Error> failure_;
+};
+
+} // namespace
+
+void writeCsv(const SimResult &result, std::ostream &out) {
+  CsvStream csv(out);
+  csv.header(result);
+  for (const auto &row : result.rows)
+    csv.row(row);
+  csv.flush();
+}
+
+Expected<std::unique_ptr<ResultFile>>
+ResultFile::open(const std::string &path, ResultFormat format) {
+  if (format == ResultFormat::Csv)
+    return std::unique_ptr<ResultFile>(std::make_unique<CsvResultFile>(path));
+  if (path == "-")
+    return Error{"a .mat result cannot go to standard output; name a file "
+                 "with -o"};
+  return matResultFile(path);
+}
+
+Expected<bool> writeResult(const SimResult &result, const std::string &path,
+                           ResultFormat format) {
+  auto file = ResultFile::open(path, format);
+  if (!file)
+    return Error{file.error()};
+  if (auto ok = (*file)->begin(result); !ok)
+    return ok;
+  for (const std::vector<double> &row : result.rows)
+    if (auto ok = (*file)->row(row); !ok)
+      return ok;
+  return (*file)->finish(result);
 }
 
 Expected<ResultFormat> resultFormat(const std::string &path,
@@ -119,16 +221,6 @@ Expected<ResultFormat> resultFormat(const std::string &path,
   bool mat = path.size() > ext.size() &&
              path.compare(path.size() - ext.size(), ext.size(), ext) == 0;
   return mat ? ResultFormat::Mat : ResultFormat::Csv;
-}
-
-Expected<bool> writeResult(const SimResult &result, const std::string &path,
-                           ResultFormat format) {
-  if (format == ResultFormat::Csv)
-    return writeCsv(result, path);
-  if (path == "-")
-    return Error{"a .mat result cannot go to standard output; name a file "
-                 "with -o"};
-  return writeMat(result, path);
 }
 
 std::vector<std::string> closeNames(const std::vector<std::string> &available,

@@ -6,6 +6,7 @@
 #include "ldae/Simulation.h"
 
 #include <iosfwd>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,14 +20,27 @@ enum class ResultFormat { Csv, Mat };
 Expected<ResultFormat> resultFormat(const std::string &path,
                                     const std::string &forced = "");
 
-/// Writes `result` to `path` ("-" is stdout, CSV only) in `format`.
+/// A result file written as the run goes (SimOptions::rowSink), so that a
+/// long run holds none of its rows, completed by finish().
+class ResultFile : public RowSink {
+public:
+  /// The file `path` ("-" is standard output, CSV only) in `format`;
+  /// nothing is opened before begin().
+  static Expected<std::unique_ptr<ResultFile>> open(const std::string &path,
+                                                    ResultFormat format);
+  /// After the run: the header when no row came, the .mat's sizes, the
+  /// flush. An Error names the file and the reason (errno); a partial file
+  /// is removed, never passed off as whole.
+  virtual Expected<bool> finish(const SimResult &result) = 0;
+};
+
+/// Writes `result` (its rows) to `path` ("-" is stdout, CSV only) in
+/// `format`, through ResultFile.
 Expected<bool> writeResult(const SimResult &result, const std::string &path,
                            ResultFormat format);
 
 /// Writes `result` as CSV to `out`.
 void writeCsv(const SimResult &result, std::ostream &out);
-/// Writes `result` as CSV to the file `path` ("-" is stdout).
-Expected<bool> writeCsv(const SimResult &result, const std::string &path);
 
 /// Formats one value as the CSV does: the shortest text that reads back to
 /// the same double, `.` point.

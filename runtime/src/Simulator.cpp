@@ -11,6 +11,7 @@
 #include "Integrator.h"
 #include "Progress.h"
 #include "Rebind.h"
+#include "RowLog.h"
 #include "ResultWriter.h"
 #include "RootWatch.h"
 #include "SparseInit.h"
@@ -96,10 +97,10 @@ Expected<std::vector<double>> modeParams(const ldae_model &m,
 /// Collects rows and the drift maximum.
 class Recorder {
 public:
-  Recorder(const ModelEval &ev, std::vector<int> cols, SimResult &res,
-           AssertChecker *asserts)
-      : ev_(ev), m_(ev.model()), cols_(std::move(cols)), res_(res),
-        asserts_(asserts), out_(std::max(m_.n_outputs, 0)),
+  Recorder(const ModelEval &ev, std::vector<int> cols, RowLog &rows,
+           SimResult &res, AssertChecker *asserts)
+      : ev_(ev), m_(ev.model()), cols_(std::move(cols)), rows_(rows),
+        res_(res), asserts_(asserts), out_(std::max(m_.n_outputs, 0)),
         drift_(std::max(m_.n_drift, 0)) {}
 
   /// Appends the row at `t`; false (and the failure) when an output left
@@ -111,7 +112,7 @@ public:
     if (m_.n_outputs > 0) {
       int rc = m_.outputs(t, y, yp, ev_.params(), out_.data());
       if (rc != 0) {
-        double lastGood = res_.rows.empty() ? t : res_.rows.back()[0];
+        double lastGood = rows_.empty() ? t : rows_.lastTime();
         res_.failure =
             rc > 0 ? describeOutputDomainError(ev_, rc - 1, t, lastGood, y)
                    : fmt::format("simulation failed at t = {:.10g}: the "
@@ -124,7 +125,8 @@ public:
     const int sources = m_.n_outputs > 0 ? m_.n_outputs : m_.n;
     for (int c : cols_)
       row.push_back(columnValue(c, sources, src, ev_.params()));
-    res_.rows.push_back(std::move(row));
+    if (!rows_.push(std::move(row)))
+      return false; // the result file refused it (SimResult::writeFailure)
     if (m_.n_drift > 0 && m_.drift &&
         m_.drift(t, y, yp, ev_.params(), drift_.data()) == 0)
       for (double d : drift_)
@@ -141,6 +143,7 @@ private:
   const ModelEval &ev_;
   const ldae_model &m_;
   std::vector<int> cols_;
+  RowLog &rows_;
   SimResult &res_;
   AssertChecker *asserts_;
   std::vector<double> out_, drift_;
@@ -516,8 +519,9 @@ enum class StageEnd { Done, ModeChange };
 /// variable-structure model runs one per mode it reaches).
 class Run {
 public:
-  Run(const SimOptions &o, const RunSettings &s, SimResult &res)
-      : o_(o), s_(s), res_(res), progress_(o.progress, s.start, s.stop) {
+  Run(const SimOptions &o, const RunSettings &s, SimResult &res, RowLog &rows)
+      : o_(o), s_(s), res_(res), rows_(rows),
+        progress_(o.progress, s.start, s.stop) {
     double span = s.stop - s.start;
     // Output grid start + k * interval, the last point exactly stop.
     nOut_ = !o.times.empty() ? long(o.times.size())
@@ -563,6 +567,7 @@ private:
   const SimOptions &o_;
   const RunSettings &s_;
   SimResult &res_;
+  RowLog &rows_;
   Progress progress_;
   long nOut_ = 0;
   long k_ = 1; // next output time (of the grid, also with --every-step)
@@ -590,7 +595,7 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
   // --every-step reports the same grid.
   ModelEval ev(m, params);
   AssertChecker asserts(ev, o_.log);
-  Recorder rec(ev, cols, res_, &asserts);
+  Recorder rec(ev, cols, rows_, res_, &asserts);
   EventLoop events(ev, s_.rtol, o_.log);
   std::vector<double> y, yp; // length 0, never read
   const double *none = y.data();
@@ -650,12 +655,12 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
       return;
     if (!rootEvent && t < timeEvent)
       continue;
-    size_t rows = res_.rows.size();
-    if (res_.rows.back()[0] != t && !rec.record(t, none, none))
+    size_t rows = rows_.size();
+    if (rows_.lastTime() != t && !rec.record(t, none, none))
       return;
     EventOutcome out = events.handle(t, y, yp, !rootEvent, nothingToMove);
     if (out == EventOutcome::Unchanged || out == EventOutcome::Restarted)
-      res_.rows.resize(rows);
+      rows_.truncate(rows);
     else if (ended(out))
       return;
     else if (!rec.record(t, none, none))
@@ -713,7 +718,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   const bool fromStart = !carry.valid;
   ModelEval ev(m, params);
   AssertChecker asserts(ev, o_.log);
-  Recorder rec(ev, cols, res_, &asserts);
+  Recorder rec(ev, cols, rows_, res_, &asserts);
   EventLoop events(ev, s_.rtol, o_.log);
   RootWatch watch(ev);
   const int n = m.n;
@@ -831,7 +836,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       for (; recorded && k_ <= nOut_; ++k_)
         if (gridTime(k_) > t)
           recorded = rec.record(gridTime(k_), y.data(), still.data());
-      if (recorded && res_.rows.back()[0] < s_.stop)
+      if (recorded && rows_.lastTime() < s_.stop)
         recorded = rec.record(s_.stop, y.data(), still.data());
       if (recorded && events.terminal(s_.stop, y.data(), still.data()))
         rec.record(s_.stop, y.data(), still.data());
@@ -1021,18 +1026,18 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         if (!recordGridUpTo(t, y.data(), yp.data()))
           return done(StageEnd::Done);
       }
-      size_t rows = res_.rows.size();
-      if ((rows == 0 || res_.rows.back()[0] != t) &&
+      size_t rows = rows_.size();
+      if ((rows == 0 || rows_.lastTime() != t) &&
           !rec.record(t, y.data(), yp.data()))
         return done(StageEnd::Done);
       EventOutcome out = events.handle(t, y, yp, timeEvent, reinit);
       if (out == EventOutcome::Unchanged) {
-        res_.rows.resize(rows);
+        rows_.truncate(rows);
         t = tRoot; // the integrator goes on from where it stopped
         if (!restartOnZeroRoot(ev, ida, watch, t))
           return done(StageEnd::Done);
       } else if (out == EventOutcome::Restarted) {
-        res_.rows.resize(rows);
+        rows_.truncate(rows);
       } else if (auto end = concluded(out))
         return done(*end);
       else if (!rec.record(t, y.data(), yp.data()))
@@ -1071,7 +1076,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     progress_.update(t);
   }
   // The last row is the stop time's; then the terminal event.
-  if (res_.rows.back()[0] < s_.stop) {
+  if (rows_.lastTime() < s_.stop) {
     auto at = ida.interpolate(s_.stop, yAt.data(), ypAt.data());
     if (!at) {
       res_.failure = describeSolverError(s_.stop, at.error());
@@ -1128,6 +1133,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   std::vector<std::string> available = Reportable(m).names;
 
   SimResult res;
+  RowLog rows(res, o.rowSink);
   res.model = m.name ? m.name : "";
   res.columns.push_back("time");
   for (int c : cols)
@@ -1136,6 +1142,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   res.params = parameterValues(m, params->data());
   res.stats.n = m.n;
   auto finish = [&]() -> Expected<SimResult> {
+    rows.finish();
     res.stats.wallTime =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0)
             .count();
@@ -1148,7 +1155,7 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
     res.failure = fmt::format("t = {:.10g}: {}", s.start, bound->failure);
     return finish();
   }
-  Run run(o, s, res);
+  Run run(o, s, res, rows);
   if (m.n == 0) {
     run.closedForm(changed, *params, cols);
     return finish();

@@ -377,7 +377,9 @@ Expected<bool> writeSweepMat(const std::vector<SweepMember> &members,
     written.push_back(file->writeMatrix(fmt::format("member_{}", k + 1), rows,
                                         columns.size(), data.data()));
   }
-  written.push_back(file->close());
+  // The file's outcome says also what became of a partial file.
+  if (auto closed = file->close(); !closed)
+    return closed;
   for (const Expected<bool> &w : written)
     if (!w)
       return Error{w.error()};

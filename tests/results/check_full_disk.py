@@ -44,17 +44,18 @@ def run(args):
 try:
     for name, args, says in [
             ("CSV", ["-o", os.path.join(full, "r.csv")],
-             "cannot write '%s': No space left on device"
-             % os.path.join(full, "r.csv")),
+             "cannot write '%s': No space left on device (the partial file "
+             "was removed)" % os.path.join(full, "r.csv")),
             (".mat", ["-o", os.path.join(full, "r.mat")],
-             "bytes reached the file (is the disk full?); the partial file "
-             "was removed"),
+             "cannot write '%s': No space left on device (the partial file "
+             "was removed)" % os.path.join(full, "r.mat")),
             ("--plot", ["--plot", os.path.join(full, "r.svg"), "-o",
                         os.devnull],
              "No space left on device"),
             ("sweep .mat", ["--sweep", "L=1:2:3", "-o",
                             os.path.join(full, "s.mat")],
-             "bytes reached the file (is the disk full?)")]:
+             "cannot write '%s': No space left on device (the partial "
+             "file was removed)" % os.path.join(full, "s.mat"))]:
         rc, err = run(args)
         check(rc == 1 and says in err,
               "%s on a full disk: exit 1 and the reason (exit %d: %s)"

@@ -1,7 +1,11 @@
 """The .mat result of ldaec read by two readers (docs/results.md):
-scipy.io.loadmat, and a reader written here from OpenModelica's documented
-result layout ("The MATv4 Result File Format" of its user's guide) on a
-MATLAB v4 parser of a few lines of numpy. Both must give the CSV of the
+scipy.io.loadmat as DyMat uses it (a variable's values are row
+`abs(index) - 1` of data_1 or data_2), and a reader written here from
+OpenModelica's result layout ("The MATv4 Result File Format" of its user's
+guide) with the orientation OpenModelica's own reader (read_matlab4.c)
+takes for "binTrans" (name, description and dataInfo one variable per
+column; data_1 parameters x 2; data_2 variables x time points), on a MATLAB
+v4 parser of a few lines of numpy. Both must give the CSV of the
 same run, exactly, and the analytic values of the models. The JIT, the
 interpreter and the program --emit c --main writes give the same bytes.
 
@@ -58,7 +62,7 @@ def scipy_reader(path):
     names = ["".join(c).rstrip() for c in m["name"].T]
     descs = ["".join(c).rstrip() for c in m["description"].T]
     info = m["dataInfo"].T.astype(int)  # one row per variable
-    data = {1: m["data_1"].T, 2: m["data_2"].T}  # one row per variable
+    data = {1: m["data_1"], 2: m["data_2"]}  # one row per variable
     out = {}
     for name, desc, (block, index, _, _) in zip(names, descs, info):
         if block == 0:
@@ -99,7 +103,11 @@ def layout_reader(path):
     trans = text(m["Aclass"])[3] == "binTrans"
     t = (lambda a: a.T) if trans else (lambda a: a)
     names, descs = text(t(m["name"])), text(t(m["description"]))
-    info, d1, d2 = t(m["dataInfo"]), t(m["data_1"]), t(m["data_2"])
+    # OpenModelica's reader: under binTrans data_1 has one or two columns
+    # (start and stop values) and a row per parameter, and data_2 a row
+    # per stored variable and a column per time point.
+    info, d1, d2 = t(m["dataInfo"]), m["data_1"], m["data_2"]
+    check(d1.shape[1] in (1, 2), "data_1 has 1 or 2 columns: %r" % (d1.shape,))
     out = {}
     for i, name in enumerate(names):
         block, index = int(info[i, 0]), int(info[i, 1])
@@ -173,9 +181,9 @@ m = scipy.io.loadmat(rc_path)
 info = m["dataInfo"].T.astype(int)
 trajectories = info[info[:, 0] == 2]
 check((trajectories[:, 1] < 0).any(), "a negated alias in dataInfo")
-check(m["data_2"].shape[1] < len(trajectories) + 1,
+check(m["data_2"].shape[0] < len(trajectories) + 1,
       "aliases stored once: %d rows for %d trajectories"
-      % (m["data_2"].shape[1], len(trajectories)))
+      % (m["data_2"].shape[0], len(trajectories)))
 check(np.array_equal(rc["scipy"]["w"][0], -rc["scipy"]["r1.v"][0]),
       "w = -r1.v read through its alias")
 

@@ -71,7 +71,7 @@ check(all(b[0] > a[0] for a, b in zip(data, data[1:])),
 rc, err = stopped_run(os.path.join(WORK, "term.mat"), signal.SIGTERM)
 check(rc == 143, "SIGTERM: exit 143 (%d)" % rc)
 m = scipy.io.loadmat(os.path.join(WORK, "term.mat"))
-d = m["data_2"]
+d = m["data_2"].T  # one row per time point
 check(d.shape[0] > 100 and d.shape[1] == 3,
       "SIGTERM: a valid .mat with the rows so far (%s)" % (d.shape,))
 worst = max(abs(row[1] - math.cos(row[0])) for row in d if row[0] <= 100)

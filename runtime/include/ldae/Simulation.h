@@ -43,6 +43,23 @@ inline std::optional<IntegratorChoice> parseIntegrator(std::string_view text) {
   return std::nullopt;
 }
 
+struct SimResult;
+
+/// Takes a run's rows as they become final, in time order, so that a long
+/// run holds none of them (the command line's result file: docs/results.md,
+/// "Rows written as the run goes"). The event iteration may take back the
+/// rows of the time it is at, so the rows of a time are handed on once a
+/// later time is reached, and the last ones when the run ends.
+class RowSink {
+public:
+  virtual ~RowSink() = default;
+  /// Before the first row: the result's columns, their info and the run's
+  /// parameters (its rows empty).
+  virtual Expected<bool> begin(const SimResult &header) = 0;
+  /// One row, time first. An Error ends the run (SimResult::writeFailure).
+  virtual Expected<bool> row(const std::vector<double> &row) = 0;
+};
+
 /// What the user asked for; unset values fall back to the model's
 /// experiment annotation, then to start 0, stop 1, rtol 1e-6,
 /// atol = rtol, interval (stop - start) / 500.
@@ -85,6 +102,9 @@ struct SimOptions {
   /// Polled after every integrator step: true ends the run there, its rows
   /// kept (SimResult::interrupted; a signal, Python's Ctrl-C). Unset: never.
   std::function<bool()> interrupted;
+  /// Set: the rows go to it as the run produces them and SimResult::rows
+  /// stays empty. Unset: the rows are kept in SimResult::rows.
+  RowSink *rowSink = nullptr;
 };
 
 /// Counters of one run (summed over all IDA re-initializations).
@@ -142,6 +162,12 @@ struct SimResult {
   std::vector<std::string> columns; ///< "time", then the reported names
   std::vector<ColumnInfo> info;     ///< one per column
   std::vector<std::vector<double>> rows;
+  /// The rows the run produced (in `rows`, or handed to
+  /// SimOptions::rowSink), and the time of the last.
+  size_t rowCount = 0;
+  double lastTime = 0;
+  /// The RowSink's Error that ended the run ("" when it took every row).
+  std::string writeFailure;
   /// Every parameter of the model with the value of this run.
   std::vector<ParamValue> params;
   SimStats stats;
