@@ -10,6 +10,7 @@ a bad value) is reported with its parameters and the command's
 diagnostics; the others are kept. Results come back as numpy arrays,
 stacked over members when the output grids agree.
 """
+import asyncio
 import hashlib
 import itertools
 import math
@@ -132,8 +133,21 @@ def _run_member(model, spec, index, member):
 _MEMBER_TRIES = 2
 
 #: The status of a member whose worker process died running it (a crash
-#: in native code, the operating system's out-of-memory killer).
+#: in native code, the operating system's out-of-memory killer), or that
+#: no worker was left to run.
 WORKER_DIED = -1
+
+#: Seconds the sweep waits with tasks pending and no worker at all before
+#: it reports the members left as not run (a cluster whose workers died
+#: and were not restarted: the scheduler would wait for ever).
+#: LDAEC_SWEEP_NO_WORKER_GRACE overrides it (tests).
+_NO_WORKER_GRACE = 60.0
+
+#: How often the sweep looks at the cluster while no task ends.
+_WATCH_INTERVAL = 1.0
+
+#: What Dask raises when a wait or a result fetch runs out of time.
+_TIMEOUTS = (TimeoutError, asyncio.TimeoutError)
 
 
 def _fault_injection(index):
@@ -347,6 +361,16 @@ def sweep(model, params, *, scheduler=None, client=None, n_workers=None,
     return result
 
 
+def _not_run(index, params, why):
+    """The record of a member that has no result of its own: `why` it did
+    not run to its end (WORKER_DIED)."""
+    values = ", ".join(f"{k}={format_value(v)}" for k, v in params.items())
+    return {"index": index, "params": params, "status": WORKER_DIED,
+            "diagnostics": f"error: member {index} ({values}): {why}\n",
+            "time": None, "values": None, "recompiled": False,
+            "wall_time": 0.0}
+
+
 def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
              counter, t0):
     import distributed
@@ -379,35 +403,64 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
         # that kills its worker alone is reported, with its parameters. A
         # member alone is tried again (_MEMBER_TRIES times): its result may
         # have been lost with a worker another member killed after it ran.
-        pending = distributed.as_completed(list(chunk_of))
-        for future in pending:
-            chunk = chunk_of.pop(future)
+        # A watchdog: with tasks pending and no worker left for
+        # _NO_WORKER_GRACE seconds (workers that died and were not
+        # restarted), the members left are reported as not run and the
+        # sweep returns what it has.
+        grace = float(os.environ.get("LDAEC_SWEEP_NO_WORKER_GRACE",
+                                     _NO_WORKER_GRACE))
+        alone_since = None
+        while chunk_of:
             try:
-                batch = future.result()
-            except Exception as e:  # the worker died, or the task failed
-                single = len(chunk) == 1
-                again = [m for m in chunk
-                         if not single or tries.get(m[0], 0) < _MEMBER_TRIES]
-                if again:
-                    for member in again:
-                        tries[member[0]] = tries.get(member[0], 0) + single
-                        f = client.submit(run_chunk, spec, [member],
-                                          pure=False)
-                        chunk_of[f] = [member]
-                        pending.add(f)
+                done, _ = distributed.wait(list(chunk_of),
+                                           timeout=_WATCH_INTERVAL,
+                                           return_when="FIRST_COMPLETED")
+            except _TIMEOUTS:
+                done = ()
+            progress = False
+            for future in done:
+                chunk = chunk_of.pop(future)
+                try:
+                    batch = future.result(timeout=_WATCH_INTERVAL)
+                except _TIMEOUTS:
+                    # Finished, but its result went with its worker before
+                    # it was fetched: Dask runs it again, or the watchdog
+                    # reports it.
+                    chunk_of[future] = chunk
                     continue
-                [(index, params)] = chunk
-                values = ", ".join(f"{k}={format_value(v)}"
-                                   for k, v in params.items())
-                batch = [{"index": index, "params": params,
-                          "status": WORKER_DIED,
-                          "diagnostics": f"error: the worker process running "
-                                         f"member {index} ({values}) died: "
-                                         f"{type(e).__name__}: {e}\n",
-                          "time": None, "values": None, "recompiled": False,
-                          "wall_time": 0.0}]
-            counter.add(batch)
-            records += batch
+                except Exception as e:  # the worker died, or the task failed
+                    progress = True
+                    single = len(chunk) == 1
+                    again = [m for m in chunk
+                             if not single or
+                             tries.get(m[0], 0) < _MEMBER_TRIES]
+                    if again:
+                        for member in again:
+                            tries[member[0]] = tries.get(member[0], 0) + single
+                            f = client.submit(run_chunk, spec, [member],
+                                              pure=False)
+                            chunk_of[f] = [member]
+                        continue
+                    [(index, params)] = chunk
+                    batch = [_not_run(index, params,
+                                      f"the worker process running it died: "
+                                      f"{type(e).__name__}: {e}")]
+                progress = True
+                counter.add(batch)
+                records += batch
+            if progress or not chunk_of or client.scheduler_info()["workers"]:
+                alone_since = None
+            elif alone_since is None:
+                alone_since = time.perf_counter()
+            elif time.perf_counter() - alone_since > grace:
+                batch = [_not_run(i, p, "no worker was left to run it (the "
+                                  "cluster's workers died and none came back "
+                                  "within %g s)" % grace)
+                         for chunk in chunk_of.values() for i, p in chunk]
+                client.cancel(list(chunk_of))
+                chunk_of.clear()
+                counter.add(batch)
+                records += batch
         return SweepResult(records, setup, time.perf_counter() - t0 - setup)
     finally:
         for thing in owned:

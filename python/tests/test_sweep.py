@@ -107,13 +107,56 @@ def test_a_member_that_kills_its_worker(tmp_path, monkeypatch):
     assert list(result.status) == [0, 0, 0, -1, 0, 0, 0, 0]
     [dead] = result.failed
     assert dead["index"] == 3 and dead["params"] == {"x0": 0.4}
-    assert "member 3 (x0=0.4) died" in dead["diagnostics"]
+    assert ("member 3 (x0=0.4): the worker process running it died"
+            in dead["diagnostics"])
     for k, v in enumerate(x0):
         if k != 3:
             np.testing.assert_allclose(result["x"][k], v / (1 - v * result.time),
                                        rtol=1e-5)
     rows = list(csv.DictReader(open(tmp_path / "members.csv")))
     assert [r["status"] for r in rows] == ["0", "0", "0", "-1", "0", "0", "0", "0"]
+
+
+def test_workers_gone_for_good(monkeypatch):
+    """A worker without a nanny that dies is not restarted: the scheduler
+    waited for ever with the tasks left (issue 28, a sweep hung 10
+    minutes). The watchdog reports the members no worker was left to run,
+    with their parameters, and the sweep returns the others."""
+    import subprocess
+    import sys
+    monkeypatch.setenv("LDAEC_SWEEP_NO_WORKER_GRACE", "2")
+    env = dict(os.environ, LDAEC_SWEEP_ABORT_MEMBER="2")
+    x0 = [0.1, 0.2, 0.3, 0.4]
+    with distributed.LocalCluster(n_workers=0, dashboard_address=None) as c:
+        worker = subprocess.Popen(
+            [sys.executable, "-m", "distributed.cli.dask_worker",
+             c.scheduler_address, "--no-nanny", "--nthreads", "1",
+             "--no-dashboard"], env=env, stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL)
+        try:
+            with distributed.Client(c) as client:
+                client.wait_for_workers(1, timeout=60)
+                result = ldaec.sweep(BLOWUP, {"x0": x0}, client=client,
+                                     cache=False, chunk_size=1,
+                                     progress=False)
+        finally:
+            worker.kill()
+            worker.wait()
+    # Members 0 and 1 ran; their results survive unless the worker died
+    # before the client fetched them (then they too count as not run).
+    assert list(result.status[2:]) == [-1, -1]
+    for r in result.members:
+        k = r["index"]
+        if r["status"] == 0:
+            np.testing.assert_allclose(r["values"][:, r["names"].index("x")],
+                                       x0[k] / (1 - x0[k] * r["time"]),
+                                       rtol=1e-5)
+        else:
+            assert r["status"] == -1
+            assert "member %d (x0=%s)" % (k, x0[k]) in r["diagnostics"]
+    last = result.failed[-1]
+    assert last["index"] == 3 and last["params"] == {"x0": 0.4}
+    assert "no worker was left to run it" in last["diagnostics"]
 
 
 def test_unwritable_write_dir_refused_first(tmp_path):

@@ -658,7 +658,7 @@ StepStatus CvodeIntegrator::step(double &tret) {
   }
   shared_.nonFinite = false;
   I.cb.singular = false;
-  int flag = CVode(I.mem, I.tstop, I.y, &tret, CV_ONE_STEP);
+  int flag = CVode(I.mem, oneStepTarget(I.t, I.tstop), I.y, &tret, CV_ONE_STEP);
   if (flag == CV_ILL_INPUT && ev_.model().n_roots > 0 &&
       shared_.message.find("cvRcheck2") != std::string::npos) {
     // Restarted exactly on a root function's zero, and it is still zero
@@ -670,7 +670,7 @@ StepStatus CvodeIntegrator::step(double &tret) {
     // the one price.)
     if (CVodeRootInit(I.mem, 0, nullptr) < 0)
       return StepStatus::failed(FailureKind::Other, "CVodeRootInit");
-    flag = CVode(I.mem, I.tstop, I.y, &tret, CV_ONE_STEP);
+    flag = CVode(I.mem, oneStepTarget(I.t, I.tstop), I.y, &tret, CV_ONE_STEP);
     if (CVodeRootInit(I.mem, ev_.model().n_roots, rootFn) < 0)
       return StepStatus::failed(FailureKind::Other, "CVodeRootInit");
   }

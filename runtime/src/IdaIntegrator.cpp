@@ -312,7 +312,8 @@ Expected<bool> IdaIntegrator::setMaxStep(double hmax) {
 StepStatus IdaIntegrator::step(double &tret) {
   Impl &I = *impl_;
   shared_.nonFinite = false;
-  int flag = IDASolve(I.mem, I.tstop, &tret, I.y, I.yp, IDA_ONE_STEP);
+  int flag = IDASolve(I.mem, oneStepTarget(shared_.t, I.tstop), &tret, I.y,
+                      I.yp, IDA_ONE_STEP);
   shared_.t = tret;
   if (flag < 0) {
     return overflowAware(failure(flag));

@@ -15,6 +15,20 @@
 
 namespace ldae::runtime {
 
+/// How far ahead of t a one-step call's `tout` may point, relative to
+/// 1 + |t|.
+inline constexpr double kFirstStepHorizon = 1e12;
+
+/// The `tout` of a one-step call from t towards tstop. SUNDIALS reads it
+/// only on the first call after a (re)start, for the scale of its first
+/// step, whose lower bound is 100 u max(|t|, |tout|): `--stop 1e300` made
+/// that 2e286 and the first step failed at t = 0. A span beyond the
+/// horizon is taken as the horizon (the step size grows from there).
+inline double oneStepTarget(double t, double tstop) {
+  double reach = kFirstStepHorizon * (1 + (t < 0 ? -t : t));
+  return tstop - t > reach ? t + reach : tstop;
+}
+
 /// Why a step or a start failed, in terms of the failure report (each
 /// integrator maps its own return codes onto these).
 enum class FailureKind {
