@@ -95,6 +95,8 @@ def run_entry(ldaec, entry, workdir, verbose):
     cmd = [ldaec, model, "--simulate", "-o", out]
     if entry.get("model"):
         cmd += ["--model", entry["model"]]
+    if "start" in sim:
+        cmd += ["--start", repr(float(sim["start"]))]
     if "stop" in sim:
         cmd += ["--stop", repr(float(sim["stop"]))]
     if "tolerance" in sim:
