@@ -12,12 +12,18 @@ namespace {
 /// far above round-off of values of that size (1e-16), far below what any
 /// tolerance resolves.
 constexpr double kFloor = 1e-13;
+/// A root function that stays within this fraction of its largest
+/// magnitude between events is on its surface: a relay's or a comparator's
+/// function swings across its range between switchings, a sliding one
+/// stays at the step size times its rate (Tiller's chatter model: 2e-5 of
+/// 1).
+constexpr double kSlidingBand = 1e-3;
 } // namespace
 
 RootWatch::RootWatch(const ModelEval &ev)
     : ev_(ev), nr_(std::max(ev.model().n_roots, 0)), g_(nr_), scale_(nr_, 0.0),
-      excursion_(nr_, 0.0), atRestart_(nr_, 0.0), pending_(nr_, false),
-      zero_(nr_, false) {}
+      excursion_(nr_, 0.0), atRestart_(nr_, 0.0), slideEvents_(nr_, 0),
+      slideSince_(nr_, 0.0), pending_(nr_, false), zero_(nr_, false) {}
 
 bool RootWatch::evaluate(double t, const double *y, const double *yp) {
   const ldae_model &m = ev_.model();
@@ -37,6 +43,24 @@ bool RootWatch::exactlyZero(double t, const double *y,
   if (nr_ == 0 || !m.roots || m.roots(t, y, yp, ev_.params(), g.data()) != 0)
     return false;
   return std::find(g.begin(), g.end(), 0.0) != g.end();
+}
+
+int RootWatch::sliding(double t, const std::vector<int> &found,
+                       size_t events, double span) {
+  for (int j = 0; j < nr_ && j < int(found.size()); ++j) {
+    if (!found[j])
+      continue;
+    bool near = scale_[j] > 0 && excursion_[j] <= kSlidingBand * scale_[j];
+    // A run of near events that takes longer than `span` starts again
+    // from this one.
+    if (!near || (slideEvents_[j] > 0 && t - slideSince_[j] > span))
+      slideEvents_[j] = 0;
+    if (near && slideEvents_[j]++ == 0)
+      slideSince_[j] = t;
+    if (slideEvents_[j] >= events)
+      return j;
+  }
+  return -1;
 }
 
 void RootWatch::restarted(double t, const double *y, const double *yp) {

@@ -20,6 +20,7 @@
 
 #include "ModelEval.h"
 
+#include <cstddef>
 #include <vector>
 
 namespace ldae::runtime {
@@ -50,6 +51,21 @@ public:
   /// vc, two equal doubles, leaving zero tangentially); a restart there
   /// makes them set that root function aside until it leaves zero.
   bool exactlyZero(double t, const double *y, const double *yp) const;
+  /// At an event at t the roots `found` caused, which assigned no reinit and
+  /// made no jump (call before restarted()): counts, per root, the events
+  /// in a row since each of which its function stayed within kSlidingBand
+  /// of its largest magnitude in the run. Returns a root that reached
+  /// `events` such events in a row within `span` seconds, or -1: the state
+  /// chatters along that root's surface, where the vector fields of both
+  /// sides point at it (a Filippov sliding mode), at whatever rate the
+  /// steps allow. (Both tests are needed: a comparator's function swings
+  /// across its range between switchings however fast they come, and a
+  /// decaying oscillation's crossings come slowly however small it gets.)
+  int sliding(double t, const std::vector<int> &found, size_t events,
+              double span);
+  /// The time of the first event of the run of events that sliding()
+  /// counted for root j.
+  double slidingSince(int j) const { return slideSince_[j]; }
 
 private:
   bool evaluate(double t, const double *y, const double *yp);
@@ -57,6 +73,8 @@ private:
   const ModelEval &ev_;
   int nr_;
   std::vector<double> g_, scale_, excursion_, atRestart_;
+  std::vector<size_t> slideEvents_; // sliding(): events in a row near zero
+  std::vector<double> slideSince_;
   std::vector<bool> pending_; // a crossing was ignored since the restart
   std::vector<bool> zero_;    // exactly zero at the restart, not left yet
   bool aimedAhead_ = false;   // stopAheadOfZero answered since the restart

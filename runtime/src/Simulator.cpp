@@ -149,6 +149,28 @@ private:
   std::vector<double> out_, drift_;
 };
 
+/// The failure of a run whose state slides along root j's surface since
+/// `since` (RootWatch::sliding).
+std::string slidingMessage(const ModelEval &ev, int j, double t,
+                           double since) {
+  const ldae_model &m = ev.model();
+  std::string relation =
+      m.root_relation ? "'" + ev.discreteName(m.root_relation[j]) + "'"
+                      : fmt::format("root function {}", j + 1);
+  return fmt::format(
+      "sliding at t = {:.10g}: the condition {} changed {} times since t = "
+      "{:.10g} (every {:.3g} s), its two sides never apart by more than "
+      "{:g} of their largest difference in the run in between: the state "
+      "chatters along the surface where they are equal (a sliding mode, as "
+      "of an ideal relay in a feedback loop), which ldaec does not "
+      "integrate\n"
+      "  hint: the solution is the average of both sides' dynamics that "
+      "keeps it on the surface (Filippov); model that mode, or a hysteresis "
+      "or a smooth characteristic",
+      t, relation, kChatterEvents, since,
+      (t - since) / double(kChatterEvents), 1e-3);
+}
+
 /// The most mode switches at one time (one event iteration across the
 /// modes' models; EventLoop allows 100 updates within one model).
 constexpr int kMaxModeSwitchesAtOnce = 100;
@@ -1030,7 +1052,16 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       if ((rows == 0 || rows_.lastTime() != t) &&
           !rec.record(t, y.data(), yp.data()))
         return done(StageEnd::Done);
+      const long jumpsBefore = events.jumps();
       EventOutcome out = events.handle(t, y, yp, timeEvent, reinit);
+      if (out == EventOutcome::Handled && rootEvent &&
+          events.jumps() == jumpsBefore)
+        if (int j = watch.sliding(t, ida.rootsFound(), kChatterEvents,
+                                  s_.interval);
+            j >= 0) {
+          res_.failure = slidingMessage(ev, j, t, watch.slidingSince(j));
+          return done(StageEnd::Done);
+        }
       if (out == EventOutcome::Unchanged) {
         rows_.truncate(rows);
         t = tRoot; // the integrator goes on from where it stopped
