@@ -140,7 +140,8 @@ struct Component {
   /// Array sizes: the declarator's, then the type's (`Real[3] x[2]` is 2x3).
   std::vector<ExprPtr> dims;
   ModificationPtr mod;
-  ExprPtr condition; // `if cond`: conditional components (unsupported)
+  ExprPtr condition; // `if cond`: a conditional component
+  std::string conditionText; // `cond` as written
   std::string description;
   bool isProtected = false;
   bool isFinal = false;

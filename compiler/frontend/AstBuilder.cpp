@@ -380,7 +380,7 @@ private:
         comp.mod = modification(decl->modification());
       if (decl->expression()) {
         comp.condition = expression(decl->expression());
-        unsupported(comp.condition->loc, "conditional components");
+        comp.conditionText = sourceText(decl->expression());
       }
       comp.description = stringComment(decl->comment()->stringComment());
       comp.isProtected = isProtected;

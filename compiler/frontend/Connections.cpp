@@ -42,8 +42,29 @@ std::string targetName(const RefTarget &t) {
 
 } // namespace
 
+bool Flattener::namesRemoved(const ast::Expr &ref, const Scope &scope) {
+  InstNode *n = ref.global ? nullptr : scope.inst;
+  for (const ast::RefPart &part : ref.parts) {
+    if (!n || n->isLeaf())
+      return false;
+    if (n->findRemoved(part.name))
+      return true;
+    n = n->findMember(part.name);
+    if (!n || !ensureElaborated(*n, ref.loc))
+      return false;
+    // An array of components: its elements share their conditional members.
+    if (n->isArray())
+      n = n->elements.empty() ? nullptr : n->elements.front().get();
+  }
+  return false;
+}
+
 void Flattener::addConnect(const ast::Equation &eq, const Scope &scope,
                            Env *env) {
+  // A connect equation that names a removed conditional component is
+  // removed with it (MLS 4.4.5).
+  if (namesRemoved(*eq.lhs, scope) || namesRemoved(*eq.rhs, scope))
+    return;
   std::optional<Selection> a = selectComponents(*eq.lhs, scope, env);
   std::optional<Selection> b = selectComponents(*eq.rhs, scope, env);
   if (!a || !b)

@@ -121,6 +121,17 @@ struct InstNode {
     auto it = memberIndex.find(name);
     return it == memberIndex.end() ? nullptr : it->second;
   }
+  /// Conditional members whose condition is false (MLS 4.4.5): removed
+  /// with the connect equations that name them; kept for the message
+  /// that any other use gets.
+  std::vector<std::unique_ptr<InstNode>> removed;
+  /// The removed conditional member named `name`, or null.
+  const InstNode *findRemoved(const std::string &name) const {
+    for (const auto &m : removed)
+      if (m->name == name)
+        return m.get();
+    return nullptr;
+  }
   /// Appends a member whose name no member has.
   void addMember(std::unique_ptr<InstNode> m) {
     members.push_back(std::move(m));
@@ -181,9 +192,17 @@ public:
   std::string suggest(const std::string &name, const Scope &scope, Env *env);
   /// "undefined name" for the first part of `ref`, with a suggestion.
   void reportUndefined(const ast::Expr &ref, const Scope &scope, Env *env);
+  /// A use of a conditional component that its condition removed.
+  void reportRemoved(const InstNode &removed, SourceRange range);
+  /// Whether the component reference `ref` goes through a conditional
+  /// component that its condition removed (its connect equations go too).
+  bool namesRemoved(const ast::Expr &ref, const Scope &scope);
 
   // ----- Instantiate.cpp
   bool ensureElaborated(InstNode &node, SourceLoc usedAt);
+  /// Moves the conditional members whose condition is false to
+  /// InstNode::removed.
+  void removeDisabledMembers(InstNode &node);
 
   // ----- Lower.cpp
   std::optional<Value> lower(const ast::Expr &e, const Scope &scope, Env *env);

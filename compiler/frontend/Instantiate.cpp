@@ -471,6 +471,7 @@ void Flattener::elaborateInstance(InstNode &node) {
   for (auto &m : node.members)
     m->mod = mergeMods(node.mod ? node.mod->sub(m->name) : nullptr, m->mod);
   checkModifiers(node);
+  removeDisabledMembers(node);
   for (const ModPtr &ext : c.allExtendsMods) {
     if (!ext)
       continue;
@@ -493,6 +494,33 @@ void Flattener::elaborateInstance(InstNode &node) {
     if (overBudget())
       break;
   }
+}
+
+void Flattener::removeDisabledMembers(InstNode &node) {
+  // A conditional component's condition is a parameter expression of the
+  // instance it is declared in (MLS 4.4.5); false removes it.
+  bool any = false;
+  for (const auto &m : node.members)
+    any = any || m->decl->condition;
+  if (!any)
+    return;
+  // Decided first, moved after: a condition reads other members.
+  std::vector<bool> off;
+  for (const auto &m : node.members) {
+    const ast::Component &d = *m->decl;
+    std::optional<double> on =
+        d.condition ? evalConstant(*d.condition, Scope{&node, m->declClass},
+                                   nullptr, "condition of a component")
+                    : std::optional<double>(1.0);
+    off.push_back(on && *on == 0.0);
+  }
+  std::vector<std::unique_ptr<InstNode>> kept;
+  for (size_t k = 0; k < node.members.size(); ++k)
+    (off[k] ? node.removed : kept).push_back(std::move(node.members[k]));
+  node.members.clear();
+  node.memberIndex.clear();
+  for (auto &m : kept)
+    node.addMember(std::move(m));
 }
 
 void Flattener::checkModifiers(InstNode &node) {

@@ -161,6 +161,11 @@ Flattener::resolveInstancePath(const ast::Expr &ref, size_t firstPart,
     for (RefTarget &t : sel.targets) {
       InstNode *n = t.node;
       InstNode *found = n->isLeaf() ? nullptr : n->findMember(member);
+      if (!found && n->findRemoved(member)) {
+        reportRemoved(*n->findRemoved(member), SourceRange{ref.loc,
+                                                           ref.length});
+        return std::nullopt;
+      }
       if (!found) {
         std::vector<std::string> names;
         for (const auto &m : n->members)
@@ -282,6 +287,10 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
     }
   // Components of the instance.
   if (!ref.global && scope.inst) {
+    if (const InstNode *gone = scope.inst->findRemoved(first)) {
+      reportRemoved(*gone, SourceRange{ref.loc, ref.length});
+      return std::nullopt;
+    }
     if (InstNode *member = scope.inst->findMember(first)) {
       std::optional<Selection> sel =
           resolveInstancePath(ref, 0, member, scope, env);
@@ -359,10 +368,20 @@ Flattener::selectComponents(const ast::Expr &ref, const Scope &scope,
   return std::nullopt;
 }
 
+void Flattener::reportRemoved(const InstNode &removed, SourceRange range) {
+  report(DiagId::ErrConditionalRemoved, range,
+         {removed.name, removed.decl->conditionText});
+}
+
 void Flattener::reportUndefined(const ast::Expr &ref, const Scope &scope,
                                 Env *env) {
   const std::string &first = ref.parts[0].name;
   SourceRange range{ref.loc, ref.length};
+  if (const InstNode *gone =
+          !ref.global && scope.inst ? scope.inst->findRemoved(first) : nullptr) {
+    reportRemoved(*gone, range);
+    return;
+  }
   std::string best = suggest(first, scope, env);
   if (best.empty())
     report(DiagId::ErrUndefinedName, range, {first});
