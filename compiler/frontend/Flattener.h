@@ -92,6 +92,9 @@ struct InstNode {
   // Resolved type.
   const ast::ClassDef *cls = nullptr; // long class of a class instance
   BuiltinType builtin = BuiltinType::None;
+  /// An enumeration type: the component is an Integer leaf whose values
+  /// are its literals' positions, 1 ... n (MLS 4.9.5's Integer(e)).
+  const ast::ClassDef *enumeration = nullptr;
   std::string typeName;
   bool isConnector = false;
   bool flow = false;
@@ -192,6 +195,12 @@ public:
   std::string suggest(const std::string &name, const Scope &scope, Env *env);
   /// "undefined name" for the first part of `ref`, with a suggestion.
   void reportUndefined(const ast::Expr &ref, const Scope &scope, Env *env);
+  /// The enumeration class `e` names (a type name, through short classes:
+  /// `type Init = Modelica.Blocks.Types.Init`), or null; reports nothing.
+  const ast::ClassDef *enumerationNamed(const ast::Expr &e,
+                                        const Scope &scope);
+  /// The enumeration `cls` is, through short classes, or null.
+  const ast::ClassDef *enumerationOf(const ast::ClassDef *cls);
   /// A use of a conditional component that its condition removed.
   void reportRemoved(const InstNode &removed, SourceRange range);
   /// Whether the component reference `ref` goes through a conditional

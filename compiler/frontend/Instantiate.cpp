@@ -190,9 +190,14 @@ bool Flattener::resolveType(InstNode &node) {
     if (cls->kind == ast::ClassKind::Connector)
       node.isConnector = true;
     if (cls->isEnumeration) {
-      report(DiagId::ErrUnsupported, d.typeName.loc,
-                    {"enumeration types"});
-      return false;
+      if (cls->enumLiterals.empty()) {
+        report(DiagId::ErrUnsupported, d.typeName.loc,
+               {"enumeration(:) types"});
+        return false;
+      }
+      node.builtin = BuiltinType::Integer;
+      node.enumeration = cls;
+      break;
     }
     if (!cls->isShort) {
       if (cls->kind == ast::ClassKind::Function ||
@@ -270,8 +275,12 @@ void Flattener::elaborateComponent(InstNode &node) {
       node.state = InstNode::State::Failed;
       return;
     }
+    // `Real x[E]` for an enumeration E: one element per literal.
+    const ast::ClassDef *byEnum = enumerationNamed(*dim, declScope);
     std::optional<int64_t> n =
-        evalInteger(*dim, declScope, nullptr, "array size of '" + d.name + "'");
+        byEnum ? std::optional<int64_t>(int64_t(byEnum->enumLiterals.size()))
+               : evalInteger(*dim, declScope, nullptr,
+                             "array size of '" + d.name + "'");
     if (!n) {
       node.state = InstNode::State::Failed;
       return;

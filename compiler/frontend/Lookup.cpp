@@ -336,6 +336,20 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
     const ast::ClassDef *cls = hit.cls;
     for (size_t i = 1; i < ref.parts.size(); ++i) {
       const std::string &name = ref.parts[i].name;
+      // `E.b`: the position of the literal, 1 ... n.
+      if (const ast::ClassDef *en = enumerationOf(cls)) {
+        const auto &lits = en->enumLiterals;
+        auto at = std::find(lits.begin(), lits.end(), name);
+        if (at != lits.end() && i + 1 == ref.parts.size() &&
+            ref.parts[i].subscripts.empty())
+          return Value::scalar(ctx().constant(double(at - lits.begin() + 1)));
+        std::string all;
+        for (const std::string &l : lits)
+          all += (all.empty() ? "" : ", ") + l;
+        report(DiagId::ErrNoLiteral, SourceRange{ref.loc, ref.length},
+               {name, cls->qualifiedName(), all});
+        return std::nullopt;
+      }
       if (const ast::ClassDef *inner = classes_.memberClass(*cls, name)) {
         cls = inner;
         continue;
@@ -366,6 +380,38 @@ Flattener::selectComponents(const ast::Expr &ref, const Scope &scope,
   }
   reportUndefined(ref, scope, env);
   return std::nullopt;
+}
+
+const ast::ClassDef *Flattener::enumerationOf(const ast::ClassDef *cls) {
+  for (unsigned guard = 0; cls && guard < kMaxInstanceDepth; ++guard) {
+    if (cls->isEnumeration)
+      return cls;
+    if (!cls->isShort)
+      return nullptr;
+    cls = classes_.resolveClass(cls->shortBase, cls->parent, cls->file,
+                                /*report=*/false);
+  }
+  return nullptr;
+}
+
+const ast::ClassDef *Flattener::enumerationNamed(const ast::Expr &e,
+                                                 const Scope &scope) {
+  if (e.kind != ast::ExprKind::Ref || e.parts.empty())
+    return nullptr;
+  ast::Name name;
+  name.global = e.global;
+  name.loc = e.loc;
+  for (const ast::RefPart &p : e.parts) {
+    if (!p.subscripts.empty())
+      return nullptr;
+    name.parts.push_back(p.name);
+  }
+  // A component or a local of that name is not a type name.
+  if (!e.global && scope.inst && scope.inst->findMember(name.parts[0]))
+    return nullptr;
+  uint32_t file = scope.cls ? scope.cls->file : e.loc.file;
+  return enumerationOf(
+      classes_.resolveClass(name, scope.cls, file, /*report=*/false));
 }
 
 void Flattener::reportRemoved(const InstNode &removed, SourceRange range) {

@@ -180,6 +180,17 @@ Flattener::iteratorValues(const ast::ForIndex &it, const Scope &scope,
     report(DiagId::ErrUnsupported, it.loc, {"for-loops without 'in range'"});
     return std::nullopt;
   }
+  // `for e in E`: the literals of an enumeration, 1 ... n.
+  if (const ast::ClassDef *en =
+          env && it.range->kind == ast::ExprKind::Ref &&
+                  env->find(it.range->parts[0].name)
+              ? nullptr
+              : enumerationNamed(*it.range, scope)) {
+    std::vector<double> values;
+    for (size_t k = 1; k <= en->enumLiterals.size(); ++k)
+      values.push_back(double(k));
+    return values;
+  }
   std::optional<Value> v = lower(*it.range, scope, env);
   if (!v)
     return std::nullopt;
