@@ -92,10 +92,14 @@ struct Expr {
 };
 
 /// A modifier `[each] [final] name.path(mods) = value "comment"`.
+struct Component;
+
 struct Modifier {
   bool each = false;
   bool final = false;
   std::vector<std::string> path;
+  /// `redeclare Type name(mods)`: the new declaration of `name` (MLS 7.3).
+  std::shared_ptr<Component> redeclared;
   SourceLoc loc;
   uint32_t length = 1;
   std::string text; // as written, for binding equations

@@ -438,6 +438,36 @@ private:
     return m;
   }
 
+  /// `redeclare [each] [final] Type name(mods)` in a modification: a
+  /// modifier of `name` that carries its new declaration.
+  ast::Modifier redeclaration(LsdParser::ElementRedeclarationContext *er) {
+    auto *cc = er->componentClause1();
+    auto comp = std::make_shared<ast::Component>();
+    comp->name = ident(cc->IDENT());
+    comp->loc = loc(cc);
+    comp->length = static_cast<uint32_t>(
+        utf8::countChars(cc->IDENT()->getText()));
+    comp->text = sourceText(cc);
+    comp->prefix = typePrefix(cc->typePrefix());
+    comp->typeName = typeSpecifier(cc->typeSpecifier());
+    if (cc->arraySubscripts())
+      comp->dims = subscripts(cc->arraySubscripts());
+    if (cc->modification())
+      comp->mod = modification(cc->modification());
+    comp->description = stringComment(cc->comment()->stringComment());
+    comp->isFinal = er->FINAL() != nullptr;
+    comp->isRedeclare = true;
+    ast::Modifier mod;
+    mod.each = er->EACH() != nullptr;
+    mod.final = comp->isFinal;
+    mod.loc = loc(cc->IDENT());
+    mod.length = comp->length;
+    mod.path = {comp->name};
+    mod.text = sourceText(er);
+    mod.redeclared = std::move(comp);
+    return mod;
+  }
+
   void classModification(LsdParser::ClassModificationContext *c,
                          ast::Modification &m) {
     if (!c->argumentList())
@@ -445,7 +475,12 @@ private:
     for (auto *arg : c->argumentList()->argument()) {
       auto *em = dynamic_cast<LsdParser::ElementModificationContext *>(arg);
       if (!em) {
-        unsupported(loc(arg), "'redeclare'");
+        auto *er = dynamic_cast<LsdParser::ElementRedeclarationContext *>(arg);
+        if (!er || !er->componentClause1()) {
+          unsupported(loc(arg), "'redeclare' of a class");
+          continue;
+        }
+        m.args.push_back(redeclaration(er));
         continue;
       }
       ast::Modifier mod;

@@ -63,6 +63,11 @@ struct Mod {
   Scope scope;                // where `value` is evaluated
   std::vector<int64_t> index; // 1-based element of `value` to take
   bool each = false;
+  /// `redeclare Type name(...)`: the declaration that replaces the
+  /// modified component's (its modifiers are among `subs`), written in
+  /// `redeclareScope`.
+  const ast::Component *redeclare = nullptr;
+  Scope redeclareScope;
   std::vector<std::pair<std::string, ModPtr>> subs;
 
   ModPtr sub(const std::string &name) const;

@@ -27,6 +27,10 @@ ModPtr mergeMods(const ModPtr &outer, const ModPtr &inner) {
   if (!inner)
     return outer;
   auto m = std::make_shared<Mod>(*outer);
+  if (!m->redeclare) {
+    m->redeclare = inner->redeclare;
+    m->redeclareScope = inner->redeclareScope;
+  }
   if (!m->value) {
     m->value = inner->value;
     m->text = inner->text;
@@ -116,9 +120,16 @@ ModPtr Flattener::makeMod(const ast::Modification *m, const Scope &scope) {
   for (const ast::Modifier &arg : m->args) {
     if (arg.path.empty())
       continue;
-    // `a.b.c = v` is `a(b(c = v))`.
-    ModPtr leaf = makeMod(arg.mod.get(), scope);
+    // `a.b.c = v` is `a(b(c = v))`; `redeclare T a(b = v)` is `a(b = v)`
+    // with a's new declaration.
+    ModPtr leaf = makeMod(arg.redeclared ? arg.redeclared->mod.get()
+                                         : arg.mod.get(),
+                          scope);
     auto inner = leaf ? std::make_shared<Mod>(*leaf) : std::make_shared<Mod>();
+    if (arg.redeclared) {
+      inner->redeclare = arg.redeclared.get();
+      inner->redeclareScope = scope;
+    }
     inner->each = arg.each;
     inner->text = arg.text;
     inner->nameLoc = arg.loc;
@@ -480,6 +491,14 @@ void Flattener::elaborateInstance(InstNode &node) {
   for (auto &m : node.members)
     m->mod = mergeMods(node.mod ? node.mod->sub(m->name) : nullptr, m->mod);
   checkModifiers(node);
+  // A member redeclared by a modifier (of an extends clause or of this
+  // instance) takes its new declaration; the modifiers of its original one
+  // still apply beneath the new ones (MLS 7.3.2).
+  for (auto &m : node.members)
+    if (m->mod && m->mod->redeclare) {
+      m->decl = m->mod->redeclare;
+      m->declClass = m->mod->redeclareScope.cls;
+    }
   removeDisabledMembers(node);
   for (const ModPtr &ext : c.allExtendsMods) {
     if (!ext)
