@@ -1,7 +1,7 @@
 // The whole lsd language (docs/language.md, /work/shared/LANGUAGE.md): one
 // combined lexer + parser grammar. It follows the Modelica 3 concrete syntax
 // closely so small single-file Modelica models parse unchanged; constructs
-// ldaec does not implement (external functions, inner/outer)
+// ldaec does not implement (external functions, stream connectors)
 // still parse and are rejected with a diagnostic by the frontend.
 // The frontend walks the tree with LsdBaseVisitor (compiler/frontend/AstBuilder.cpp).
 grammar Lsd;

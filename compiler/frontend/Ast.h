@@ -149,7 +149,8 @@ struct Component {
   std::string description;
   bool isProtected = false;
   bool isFinal = false;
-  bool isInnerOuter = false;
+  bool isInner = false; // `inner`: what `outer` declarations below refer to
+  bool isOuter = false; // `outer`: the nearest enclosing `inner` of its name
   bool isRedeclare = false;
 };
 

@@ -328,19 +328,21 @@ private:
       cls.annotations.push_back(annotation(an));
       return;
     }
-    bool innerOuter = false, redeclare = false, isFinal = false;
+    bool inner = false, outer = false, redeclare = false, isFinal = false;
     for (ParseTree *child : c->children)
       if (auto *t = dynamic_cast<TerminalNode *>(child)) {
         size_t type = t->getSymbol()->getType();
-        if (type == LsdParser::INNER || type == LsdParser::OUTER)
-          innerOuter = true;
+        if (type == LsdParser::INNER)
+          inner = true;
+        else if (type == LsdParser::OUTER)
+          outer = true;
         else if (type == LsdParser::REDECLARE)
           redeclare = true;
         else if (type == LsdParser::FINAL)
           isFinal = true;
       }
-    if (innerOuter)
-      unsupported(loc(c), "'inner'/'outer' components");
+    if (inner && outer)
+      unsupported(loc(c), "'inner outer' components");
     if (redeclare)
       unsupported(loc(c), "'redeclare'");
     if (auto *cd = c->classDefinition()) {
@@ -385,7 +387,8 @@ private:
       comp.description = stringComment(decl->comment()->stringComment());
       comp.isProtected = isProtected;
       comp.isFinal = isFinal;
-      comp.isInnerOuter = innerOuter;
+      comp.isInner = inner;
+      comp.isOuter = outer;
       comp.isRedeclare = redeclare;
       cls.components.push_back(std::move(comp));
     }

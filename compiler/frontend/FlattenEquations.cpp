@@ -30,7 +30,8 @@ void Flattener::addEquation(EqSink &sink, ir::ExprRef lhs, ir::ExprRef rhs,
 }
 
 void Flattener::flattenInstance(InstNode &node) {
-  if (node.state != InstNode::State::Done || overBudget())
+  // An `outer` component's variables and equations are its inner's.
+  if (node.state != InstNode::State::Done || node.inner || overBudget())
     return;
   if (node.isLeaf()) {
     if (node.binding)

@@ -118,17 +118,24 @@ struct InstNode {
   std::unordered_map<std::string, InstNode *> memberIndex;
   static constexpr size_t kMemberScanLimit = 8;
 
-  /// The member named `name`, or null.
+  /// The member named `name` (for an `outer` member, the `inner` one it
+  /// refers to), or null.
   InstNode *findMember(const std::string &name) const {
+    InstNode *m = nullptr;
     if (members.size() <= kMemberScanLimit) {
-      for (const auto &m : members)
-        if (m->name == name)
-          return m.get();
-      return nullptr;
+      for (const auto &c : members)
+        if (c->name == name) {
+          m = c.get();
+          break;
+        }
+    } else if (auto it = memberIndex.find(name); it != memberIndex.end()) {
+      m = it->second;
     }
-    auto it = memberIndex.find(name);
-    return it == memberIndex.end() ? nullptr : it->second;
+    return m && m->inner ? m->inner : m;
   }
+  /// An `outer` component: the `inner` one of its name in the nearest
+  /// enclosing instance that has one (MLS 5.4); it has no variables itself.
+  InstNode *inner = nullptr;
   /// Conditional members whose condition is false (MLS 4.4.5): removed
   /// with the connect equations that name them; kept for the message
   /// that any other use gets.
@@ -217,6 +224,9 @@ public:
   /// Moves the conditional members whose condition is false to
   /// InstNode::removed.
   void removeDisabledMembers(InstNode &node);
+  /// Links each `outer` member to its `inner` component (an error when
+  /// there is none).
+  void linkOuterMembers(InstNode &node);
 
   // ----- Lower.cpp
   std::optional<Value> lower(const ast::Expr &e, const Scope &scope, Env *env);

@@ -500,6 +500,7 @@ void Flattener::elaborateInstance(InstNode &node) {
       m->declClass = m->mod->redeclareScope.cls;
     }
   removeDisabledMembers(node);
+  linkOuterMembers(node);
   for (const ModPtr &ext : c.allExtendsMods) {
     if (!ext)
       continue;
@@ -521,6 +522,34 @@ void Flattener::elaborateInstance(InstNode &node) {
     ensureElaborated(*m, m->decl->loc);
     if (overBudget())
       break;
+  }
+}
+
+void Flattener::linkOuterMembers(InstNode &node) {
+  for (auto &m : node.members) {
+    if (!m->decl->isOuter)
+      continue;
+    // The nearest enclosing instance (above the one declaring it) with an
+    // `inner` component of that name.
+    for (InstNode *p = node.parent; p && !m->inner; p = p->parent) {
+      if (p->isArray())
+        continue;
+      for (const auto &c : p->members)
+        if (c->name == m->name && c->decl && c->decl->isInner) {
+          m->inner = c.get();
+          break;
+        }
+    }
+    m->membersReady = true;
+    if (!m->inner) {
+      // Failed: its uses say nothing more.
+      m->state = InstNode::State::Failed;
+      report(DiagId::ErrNoInner, SourceRange{m->decl->loc, m->decl->length},
+             {m->name, m->decl->typeName.str()});
+    } else {
+      m->state = InstNode::State::Done;
+      ensureElaborated(*m->inner, m->decl->loc);
+    }
   }
 }
 
