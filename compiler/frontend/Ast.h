@@ -224,7 +224,9 @@ struct ClassDef {
   std::vector<Equation> equations;
   std::vector<Equation> initialEquations;
   std::vector<Statement> algorithm; // function bodies
-  SourceLoc algorithmInModel;       // an algorithm section outside a function
+  /// The algorithm sections of a model, block, ... each on its own.
+  std::vector<std::vector<Statement>> modelAlgorithms;
+  SourceLoc algorithmInModel; // an initial algorithm section (unsupported)
   bool isExternal = false;
   std::vector<ModificationPtr> annotations; // class annotations
 

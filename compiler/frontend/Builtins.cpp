@@ -267,8 +267,18 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     return r;
   }
   if (name == "pre") {
-    if (!argCount(1, 1) || !lowerArgs())
+    // In a model's algorithm section a name the section assigns is a local
+    // (ModelAlgorithms.cpp); pre() of it is the variable's.
+    if (scope.inst && env) {
+      if (!argCount(1, 1))
+        return std::nullopt;
+      std::optional<Value> v = lower(*call.args[0].value, scope, nullptr);
+      if (!v)
+        return std::nullopt;
+      args.push_back(std::move(*v));
+    } else if (!argCount(1, 1) || !lowerArgs()) {
       return std::nullopt;
+    }
     Value r = args[0];
     for (ir::ExprRef &x : r.elems) {
       if (x->kind() == ir::ExprKind::Parameter || x->isConstant())

@@ -50,6 +50,8 @@ void Flattener::flattenInstance(InstNode &node) {
     sink.out = &model_->equations;
     flattenEquation(*eq, Scope{&node, cls}, nullptr, sink);
   }
+  for (const auto &[section, cls] : node.algorithms)
+    flattenAlgorithm(*section, Scope{&node, cls});
   for (const auto &[eq, cls] : node.initialEquations) {
     EqSink sink;
     sink.out = &model_->initialEquations;

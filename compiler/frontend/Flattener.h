@@ -159,6 +159,10 @@ struct InstNode {
   /// Equations of the class instance with the class they are written in.
   std::vector<std::pair<const ast::Equation *, const ast::ClassDef *>>
       equations, initialEquations;
+  /// Its algorithm sections, likewise.
+  std::vector<std::pair<const std::vector<ast::Statement> *,
+                        const ast::ClassDef *>>
+      algorithms;
   /// Builtin leaves: one slot per scalar element, row-major.
   std::vector<Slot> slots;
   /// Binding equation of a variable leaf (`Real e = expr`), if any.
@@ -327,12 +331,29 @@ private:
 
   // Inline.cpp
   enum class ExecResult { Ok, Error };
+  /// Runs statements symbolically: a function body (`scope` without an
+  /// instance) or a model's algorithm section (`scope` the instance); the
+  /// assigned names are locals in `env`, other names are looked up in
+  /// `scope`.
   ExecResult execStatements(const std::vector<ast::Statement> &list,
-                            const ast::ClassDef &fn, Env &env);
+                            const ast::ClassDef &fn, const Scope &scope,
+                            Env &env);
   ExecResult execIf(const ast::Statement &st, size_t branch,
-                    const ast::ClassDef &fn, Env &env);
+                    const ast::ClassDef &fn, const Scope &scope, Env &env);
   bool assign(const ast::Expr &target, Value value, const ast::ClassDef &fn,
-              Env &env);
+              const Scope &scope, Env &env);
+  /// A model's algorithm section: executed once symbolically, each
+  /// variable it assigns gets one equation `v = its final value`.
+  void flattenAlgorithm(const std::vector<ast::Statement> &section,
+                        const Scope &scope);
+  /// A when-statement at the top level of a model's algorithm section: a
+  /// when-clause whose equations assign the statement's targets.
+  ExecResult execWhenStatement(const ast::Statement &st,
+                               const ast::ClassDef &fn, const Scope &scope,
+                               Env &env);
+  /// While a model's algorithm section runs: the names its when-statements
+  /// assign (they get no `v = final value` equation); null otherwise.
+  std::vector<std::string> *algorithmWhenTargets_ = nullptr;
   size_t statementBudget_ = 0;
 
   // FlattenEquations.cpp

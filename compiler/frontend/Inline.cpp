@@ -182,7 +182,8 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     }
     fenv.set(c.name, std::move(*value));
   }
-  if (execStatements(fn.algorithm, fn, fenv) != ExecResult::Ok)
+  if (execStatements(fn.algorithm, fn, Scope{nullptr, &fn}, fenv) !=
+      ExecResult::Ok)
     return std::nullopt;
   std::vector<Value> outputs;
   for (const ast::Component &c : fn.components) {
@@ -202,7 +203,7 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
 }
 
 bool Flattener::assign(const ast::Expr &target, Value value,
-                       const ast::ClassDef &fn, Env &env) {
+                       const ast::ClassDef &fn, const Scope &scope, Env &env) {
   SourceRange where{target.loc, target.length};
   if (target.kind != ast::ExprKind::Ref || target.parts.size() != 1) {
     report(DiagId::ErrBadAssignTarget, where, {});
@@ -211,7 +212,7 @@ bool Flattener::assign(const ast::Expr &target, Value value,
   const std::string &name = target.parts[0].name;
   Value *slot = env.find(name);
   if (!slot) {
-    std::string best = suggest(name, Scope{nullptr, &fn}, &env);
+    std::string best = suggest(name, scope, &env);
     if (best.empty())
       report(DiagId::ErrUndefinedName, where, {name});
     else
@@ -244,8 +245,8 @@ bool Flattener::assign(const ast::Expr &target, Value value,
   }
   std::vector<int64_t> shape, offsets;
   std::vector<int64_t> dims = slot->shape;
-  if (!applySubscripts(subs, dims, name, Scope{nullptr, &fn}, &env, shape,
-                       offsets, target.loc))
+  if (!applySubscripts(subs, dims, name, scope, &env, shape, offsets,
+                       target.loc))
     return false;
   slot = env.find(name); // lowering subscripts may not move it, but be safe
   if (!value.shape.empty() && value.elems.size() != offsets.size()) {
@@ -259,11 +260,11 @@ bool Flattener::assign(const ast::Expr &target, Value value,
 }
 
 Flattener::ExecResult Flattener::execIf(const ast::Statement &st, size_t branch,
-                                        const ast::ClassDef &fn, Env &env) {
-  Scope fscope{nullptr, &fn};
+                                        const ast::ClassDef &fn,
+                                        const Scope &fscope, Env &env) {
   if (branch == st.conds.size()) {
     if (branch < st.branches.size())
-      return execStatements(st.branches[branch], fn, env);
+      return execStatements(st.branches[branch], fn, fscope, env);
     return ExecResult::Ok;
   }
   const ast::Expr &condExpr = *st.conds[branch];
@@ -277,13 +278,14 @@ Flattener::ExecResult Flattener::execIf(const ast::Statement &st, size_t branch,
   }
   if (std::optional<double> known = constantValue(cond->scalarExpr())) {
     if (*known != 0)
-      return execStatements(st.branches[branch], fn, env);
-    return execIf(st, branch + 1, fn, env);
+      return execStatements(st.branches[branch], fn, fscope, env);
+    return execIf(st, branch + 1, fn, fscope, env);
   }
   // A condition on variables: both ways, merged element by element.
   Env thenEnv = env, elseEnv = env;
-  if (execStatements(st.branches[branch], fn, thenEnv) != ExecResult::Ok ||
-      execIf(st, branch + 1, fn, elseEnv) != ExecResult::Ok)
+  if (execStatements(st.branches[branch], fn, fscope, thenEnv) !=
+          ExecResult::Ok ||
+      execIf(st, branch + 1, fn, fscope, elseEnv) != ExecResult::Ok)
     return ExecResult::Error;
   ir::ExprRef c = cond->scalarExpr();
   for (size_t k = 0; k < env.vars.size(); ++k) {
@@ -299,8 +301,8 @@ Flattener::ExecResult Flattener::execIf(const ast::Statement &st, size_t branch,
 
 Flattener::ExecResult
 Flattener::execStatements(const std::vector<ast::Statement> &list,
-                          const ast::ClassDef &fn, Env &env) {
-  Scope fscope{nullptr, &fn};
+                          const ast::ClassDef &fn, const Scope &fscope,
+                          Env &env) {
   for (const ast::Statement &st : list) {
     if (++statementBudget_ > kMaxStatements) {
       report(DiagId::ErrLoopTooLong, st.loc, {fn.name});
@@ -310,7 +312,7 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
     switch (st.kind) {
     case ast::StatementKind::Assign: {
       std::optional<Value> v = lower(*st.rhs, fscope, &env);
-      if (!v || !assign(*st.lhs, std::move(*v), fn, env))
+      if (!v || !assign(*st.lhs, std::move(*v), fn, fscope, env))
         return ExecResult::Error;
       break;
     }
@@ -324,7 +326,8 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
         return ExecResult::Error;
       }
       for (size_t k = 0; k < st.targets.size(); ++k)
-        if (st.targets[k] && !assign(*st.targets[k], (*outs)[k], fn, env))
+        if (st.targets[k] &&
+            !assign(*st.targets[k], (*outs)[k], fn, fscope, env))
           return ExecResult::Error;
       break;
     }
@@ -335,13 +338,14 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
              {"calling '" + st.rhs->text + "' as a statement"});
       return ExecResult::Error;
     case ast::StatementKind::If:
-      if (execIf(st, 0, fn, env) != ExecResult::Ok)
+      if (execIf(st, 0, fn, fscope, env) != ExecResult::Ok)
         return ExecResult::Error;
       break;
     case ast::StatementKind::For: {
       std::function<bool(size_t)> loop = [&](size_t k) -> bool {
         if (k == st.iterators.size())
-          return execStatements(st.branches[0], fn, env) == ExecResult::Ok;
+          return execStatements(st.branches[0], fn, fscope, env) ==
+                 ExecResult::Ok;
         auto values = iteratorValues(st.iterators[k], fscope, &env);
         if (!values)
           return false;
@@ -375,13 +379,21 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
         }
         if (*known == 0)
           break;
-        if (execStatements(st.branches[0], fn, env) != ExecResult::Ok)
+        if (execStatements(st.branches[0], fn, fscope, env) != ExecResult::Ok)
           return ExecResult::Error;
       }
       break;
     }
     case ast::StatementKind::When:
-      report(DiagId::ErrMisplaced, where, {"when", "a model's equations"});
+      if (fscope.inst && algorithmWhenTargets_) {
+        if (execWhenStatement(st, fn, fscope, env) != ExecResult::Ok)
+          return ExecResult::Error;
+        break;
+      }
+      report(DiagId::ErrMisplaced, where,
+             {"when", fscope.inst ? "a model's equations and the top level "
+                                    "of its algorithm sections"
+                                  : "a model's equations"});
       return ExecResult::Error;
     case ast::StatementKind::Break:
     case ast::StatementKind::Return:

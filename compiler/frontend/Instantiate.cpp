@@ -447,7 +447,9 @@ struct Collector {
     }
     if (cls.algorithmInModel.valid())
       f.report(DiagId::ErrUnsupported, cls.algorithmInModel,
-                   {"algorithm sections outside functions"});
+               {"initial algorithm sections"});
+    for (const auto &section : cls.modelAlgorithms)
+      node.algorithms.emplace_back(&section, &cls);
     for (const ast::Component &comp : cls.components) {
       ModPtr mod = (f.*makeMod)(comp.mod.get(), Scope{&node, &cls});
       for (auto it = extendsMods.rbegin(); it != extendsMods.rend(); ++it)
