@@ -55,7 +55,9 @@ bool isBuiltinName(const std::string &n) {
 /// `Modelica.Math.sin` and `Modelica.Constants` style names map to the
 /// built-ins, so models written against the MSL's math package compile.
 std::string builtinNameOf(const ast::Expr &call) {
-  if (call.parts.size() == 1 && !call.global)
+  // `.sin(u)`: MSL's Modelica.Math.sin calls the built-in by its global
+  // name.
+  if (call.parts.size() == 1)
     return call.parts[0].name;
   if (call.parts.size() >= 3 && call.parts[0].name == "Modelica" &&
       call.parts[1].name == "Math" && mathFn(call.parts.back().name))
