@@ -21,8 +21,8 @@ classDefinition
     ;
 
 classPrefixes
-    : PARTIAL? (CLASS | MODEL | RECORD | BLOCK | EXPANDABLE? CONNECTOR | TYPE
-               | PACKAGE | (PURE | IMPURE)? FUNCTION | OPERATOR)
+    : PARTIAL? (CLASS | MODEL | OPERATOR? RECORD | BLOCK | EXPANDABLE? CONNECTOR
+               | TYPE | PACKAGE | (PURE | IMPURE)? OPERATOR? FUNCTION | OPERATOR)
     ;
 
 classSpecifier

@@ -43,7 +43,15 @@ bool Compilation::parse() {
   frontend::FrontendOptions feOpts;
   feOpts.modelName = request_.modelName;
   feOpts.paramOverrides = request_.overrides;
-  model_ = frontend::compileFile(request_.path, feOpts, sources_, diags_);
+  feOpts.libraryPaths = request_.libraries;
+  if (request_.classOnPath) {
+    // The class itself is the model, found on the library path.
+    feOpts.modelName = request_.path;
+    model_ = frontend::compileSource("<library path>", "", feOpts, sources_,
+                                     diags_);
+  } else {
+    model_ = frontend::compileFile(request_.path, feOpts, sources_, diags_);
+  }
   diags_.flush(out_);
   if (hasCommandLineError(diags_)) {
     exitCode_ = 2; // --model, --param or --override named nothing

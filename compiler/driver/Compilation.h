@@ -30,6 +30,9 @@ namespace ldae::driver {
 struct CompileRequest {
   std::string path;      ///< the .lsd file
   std::string modelName; ///< --model ("" : the last non-partial model)
+  /// `path` names a class on the library path, not a file.
+  bool classOnPath = false;
+  std::vector<std::string> libraries; ///< --lib, before MODELICAPATH
   /// Values fixed before analysis (--param name=value, --override
   /// name=value and name.start=value): structural parameters, and start
   /// values that cannot change at run time, go here.

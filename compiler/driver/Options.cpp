@@ -24,7 +24,15 @@ void defineOptions(CLI::App &app, Options &o) {
       "ldaec: compiler for implicit differential systems written in lsd.\n"
       "Finds hidden constraints (any index), reduces the model, compiles it\n"
       "with LLVM and integrates it with SUNDIALS IDA.");
-  app.add_option("model", o.input, "the .lsd file to compile")->required();
+  app.add_option("model", o.input,
+                 "the .lsd or .mo file to compile, or a class on the library "
+                 "path (Modelica.Mechanics.Rotational.Examples.First)")
+      ->required();
+  app.add_option("--lib", o.libraries,
+                 "a library directory, searched before those of MODELICAPATH "
+                 "(the directory holding Modelica/ for the Modelica Standard "
+                 "Library; repeatable)")
+      ->check(CLI::ExistingDirectory);
   app.add_option("--model", o.modelName,
                  "the model to compile (default: the last non-partial model)");
   app.add_option("--param", o.paramOverrides,

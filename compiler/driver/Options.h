@@ -16,6 +16,7 @@ namespace ldae::driver {
 struct Options {
   std::string input;                      // model.lsd
   std::string modelName;                  // --model
+  std::vector<std::string> libraries;     // --lib DIR (repeatable)
   std::vector<std::string> paramOverrides;// --param name=value
   std::vector<std::string> overrides;     // --override a=1,x.start=2
   std::string format;                     // --format csv|mat ("": by -o)

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <set>
 #include <cerrno>
@@ -302,6 +303,20 @@ bool checkResultFile(const Options &o, DiagnosticEngine &diags) {
 
 } // namespace
 
+bool isClassName(const std::string &input) {
+  struct stat st;
+  if (input.empty() || stat(input.c_str(), &st) == 0 ||
+      !(std::isalpha(static_cast<unsigned char>(input[0])) || input[0] == '_'))
+    return false;
+  for (char c : input)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '.')
+      return false;
+  return input.back() != '.' && input.find("..") == std::string::npos &&
+         input.size() > 4 && input.compare(input.size() - 4, 4, ".lsd") != 0 &&
+         input.compare(input.size() - 3, 3, ".mo") != 0;
+}
+
+
 // Commas inside brackets belong to a subscript: `u[2,2],x` is two names.
 std::vector<std::string> splitOutputs(const std::string &list) {
   std::vector<std::string> out;
@@ -362,6 +377,10 @@ bool checkCommandLine(const CLI::App &app, const Options &o,
                   distinct.error()});
     ok = false;
   }
+  // A class on the library path (`Modelica.Blocks.Examples.PID_Controller`)
+  // is no file.
+  if (isClassName(o.input))
+    return ok;
   return checkInput(o.input, diags) && ok;
 }
 

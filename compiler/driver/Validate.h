@@ -24,6 +24,11 @@ namespace ldae::driver {
 bool checkCommandLine(const CLI::App &app, const Options &opts,
                       DiagnosticEngine &diags);
 
+/// Whether the positional argument names a class on the library path
+/// (`Modelica.Mechanics.Rotational.Examples.First`): a dotted name that is
+/// no existing file and does not end in .lsd or .mo.
+bool isClassName(const std::string &input);
+
 /// Whether `diags` holds an error caused by the command line rather than
 /// by the model (--model naming no class, --param naming no parameter):
 /// the frontend finds those, the driver exits 2 for them.

@@ -62,6 +62,8 @@ static driver::CompileRequest compileRequest(const driver::Options &opts) {
   driver::CompileRequest req;
   req.path = opts.input;
   req.modelName = opts.modelName;
+  req.libraries = opts.libraries;
+  req.classOnPath = driver::isClassName(opts.input);
   req.overrides = opts.paramOverrides;
   for (const std::string &list : opts.overrides)
     for (std::string &o : driver::splitOutputs(list))

@@ -11,7 +11,11 @@ namespace ldae::frontend {
 
 ClassTable::ClassTable(SourceManager &sources, DiagnosticEngine &diags,
                        std::vector<std::string> libraryPaths)
-    : sources_(sources), diags_(diags), libraryPaths_(std::move(libraryPaths)) {}
+    : sources_(sources), diags_(diags), libraryPaths_(libraryPaths),
+      loader_(sources, diags, std::move(libraryPaths),
+              [this](std::unique_ptr<ast::StoredDefinition> def) {
+                addFile(std::move(def));
+              }) {}
 
 void ClassTable::addFile(std::unique_ptr<ast::StoredDefinition> file) {
   files_.push_back(std::move(file));
@@ -42,34 +46,9 @@ const ast::ClassDef *ClassTable::libraryPackage(const std::string &name) {
   if (it != library_.end())
     return it->second;
   library_[name] = nullptr; // also guards against re-entry while parsing
-  if (name.empty() || name.front() == '\'' ||
-      name.find_first_of("/\\.") != std::string::npos)
-    return nullptr;
-  for (const std::string &dir : libraryPaths_) {
-    std::filesystem::path p = std::filesystem::path(dir) / (name + ".lsd");
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(p, ec))
-      continue;
-    LoadError error = LoadError::None;
-    uint32_t id = sources_.loadFile(p.string(), &error);
-    if (id == 0) {
-      // A library file that exists but is refused (too large) must say so
-      // rather than look like a missing package.
-      if (error == LoadError::TooLarge) {
-        reportLoadError(diags_, p.string(), error);
-        return nullptr;
-      }
-      continue;
-    }
-    auto def = parseFile(id, sources_, diags_);
-    if (!def)
-      return nullptr;
-    addFile(std::move(def));
-    const ast::ClassDef *cls = topLevel(id, name);
-    library_[name] = cls;
-    return cls;
-  }
-  return nullptr;
+  const ast::ClassDef *cls = loader_.topLevel(name);
+  library_[name] = cls;
+  return cls;
 }
 
 const ast::ClassDef *ClassTable::memberClass(const ast::ClassDef &cls,
@@ -77,6 +56,9 @@ const ast::ClassDef *ClassTable::memberClass(const ast::ClassDef &cls,
   for (const auto &c : cls.classes)
     if (c->name == name)
       return c.get();
+  // A directory package's child in a file of its own.
+  if (const ast::ClassDef *c = loader_.child(cls, name))
+    return c;
   if (importDepth_ > 32)
     return nullptr;
   ++importDepth_;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "frontend/Ast.h"
+#include "frontend/LibraryLoader.h"
 #include "support/Diagnostics.h"
 
 #include <map>
@@ -47,6 +48,8 @@ public:
   const ast::ClassDef *resolveClass(const ast::Name &name,
                                     const ast::ClassDef *scope, uint32_t fileId,
                                     bool report = true);
+  /// The library files parsed so far.
+  size_t libraryFilesParsed() const { return loader_.filesParsed(); }
   /// Names visible from `scope`, for "did you mean".
   void visibleNames(const ast::ClassDef *scope, uint32_t fileId,
                     std::vector<std::string> &out) const;
@@ -64,6 +67,7 @@ private:
   std::vector<std::string> libraryPaths_;
   std::vector<std::unique_ptr<ast::StoredDefinition>> files_;
   std::map<std::string, const ast::ClassDef *> library_; // null: not found
+  LibraryLoader loader_;
   unsigned importDepth_ = 0;
   std::set<std::string> reported_;
 };

@@ -45,10 +45,8 @@ std::unique_ptr<ir::Model> compileFileId(uint32_t id, const FrontendOptions &opt
   std::unique_ptr<ast::StoredDefinition> def = parseFile(id, sources, diags);
   if (!def)
     return nullptr;
-  std::vector<std::string> libs = opts.libraryPaths;
-  if (libs.empty())
-    libs.push_back(LDAE_STDLIB_DIR);
-  ClassTable classes(sources, diags, libs);
+  ClassTable classes(sources, diags,
+                     libraryPath(opts.libraryPaths, LDAE_STDLIB_DIR));
   const ast::StoredDefinition *main = def.get();
   classes.addFile(std::move(def));
   if (diags.hasErrors())

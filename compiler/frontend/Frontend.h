@@ -25,7 +25,9 @@ ParamOverride parseParamOverride(const std::string &option);
 struct FrontendOptions {
   std::string modelName;                   // --model, empty = last non-partial
   std::vector<std::string> paramOverrides; // "name=value"
-  std::vector<std::string> libraryPaths;   // default: LDAE_STDLIB_DIR
+  /// --lib directories; then MODELICAPATH's, then ldaec's own library
+  /// (LibraryLoader.h).
+  std::vector<std::string> libraryPaths;
 };
 
 /// Parses, checks and flattens `path`; nullptr after reporting errors.
