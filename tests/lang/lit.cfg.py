@@ -22,3 +22,11 @@ if getattr(config, "ldaec_sanitize", False):
 config.substitutions.append(("%ldaec", os.path.join(config.ldaec_bin_dir, "ldaec")))
 config.substitutions.append(("%stdlib", os.path.join(config.ldaec_src_root, "stdlib")))
 config.substitutions.append(("%examples", os.path.join(config.ldaec_src_root, "examples")))
+# The Modelica Standard Library as a user's installation (test data beside
+# the checkout, ../shared/msl): tests that load it say REQUIRES: msl.
+msl = os.path.normpath(os.path.join(config.ldaec_src_root, "..", "shared", "msl"))
+if os.path.isdir(os.path.join(msl, "Modelica")):
+    config.available_features.add("msl")
+config.substitutions.append(("%msl", msl))
+# MODELICAPATH is the test's to set, never the caller's.
+config.environment.pop("MODELICAPATH", None)

@@ -1,0 +1,4 @@
+within Lib;
+package Sub
+  import Lib.Resistor;
+end Sub;

@@ -1,0 +1,7 @@
+within ;
+package Versioned
+  model Gain
+    parameter Real k = 3;
+    Real y = k * time;
+  end Gain;
+end Versioned;
