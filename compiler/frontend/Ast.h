@@ -226,7 +226,8 @@ struct ClassDef {
   std::vector<Statement> algorithm; // function bodies
   /// The algorithm sections of a model, block, ... each on its own.
   std::vector<std::vector<Statement>> modelAlgorithms;
-  SourceLoc algorithmInModel; // an initial algorithm section (unsupported)
+  /// Its `initial algorithm` sections.
+  std::vector<std::vector<Statement>> initialAlgorithms;
   bool isExternal = false;
   std::vector<ModificationPtr> annotations; // class annotations
 

@@ -272,13 +272,10 @@ private:
         for (auto *e : eq->equation())
           list.push_back(equation(e));
       } else if (auto *al = dynamic_cast<LsdParser::AlgorithmSectionContext *>(child)) {
-        if (al->INITIAL()) {
-          if (!cls.algorithmInModel.valid())
-            cls.algorithmInModel = loc(al);
-          continue;
-        }
-        if (cls.kind != ast::ClassKind::Function) {
-          auto &section = cls.modelAlgorithms.emplace_back();
+        if (al->INITIAL() || cls.kind != ast::ClassKind::Function) {
+          auto &section = (al->INITIAL() ? cls.initialAlgorithms
+                                         : cls.modelAlgorithms)
+                              .emplace_back();
           for (auto *s : al->statement())
             section.push_back(statement(s));
           continue;

@@ -52,6 +52,8 @@ void Flattener::flattenInstance(InstNode &node) {
   }
   for (const auto &[section, cls] : node.algorithms)
     flattenAlgorithm(*section, Scope{&node, cls});
+  for (const auto &[section, cls] : node.initialAlgorithms)
+    flattenAlgorithm(*section, Scope{&node, cls}, /*initial=*/true);
   for (const auto &[eq, cls] : node.initialEquations) {
     EqSink sink;
     sink.out = &model_->initialEquations;

@@ -159,10 +159,10 @@ struct InstNode {
   /// Equations of the class instance with the class they are written in.
   std::vector<std::pair<const ast::Equation *, const ast::ClassDef *>>
       equations, initialEquations;
-  /// Its algorithm sections, likewise.
+  /// Its algorithm and initial algorithm sections, likewise.
   std::vector<std::pair<const std::vector<ast::Statement> *,
                         const ast::ClassDef *>>
-      algorithms;
+      algorithms, initialAlgorithms;
   /// Builtin leaves: one slot per scalar element, row-major.
   std::vector<Slot> slots;
   /// Binding equation of a variable leaf (`Real e = expr`), if any.
@@ -345,7 +345,7 @@ private:
   /// A model's algorithm section: executed once symbolically, each
   /// variable it assigns gets one equation `v = its final value`.
   void flattenAlgorithm(const std::vector<ast::Statement> &section,
-                        const Scope &scope);
+                        const Scope &scope, bool initial = false);
   /// A when-statement at the top level of a model's algorithm section: a
   /// when-clause whose equations assign the statement's targets.
   ExecResult execWhenStatement(const ast::Statement &st,

@@ -6,6 +6,8 @@
 // final expressions are the call's values.
 #include "frontend/Flattener.h"
 
+#include <functional>
+
 #include <cmath>
 
 namespace ldae::frontend {
@@ -45,9 +47,28 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     report(DiagId::ErrUnsupported, where, {"external function '" + fn.name + "'"});
     return std::nullopt;
   }
-  if (!fn.extends.empty()) {
-    report(DiagId::ErrUnsupported, fn.extends[0].loc, {"'extends' in functions"});
-    return std::nullopt;
+  // `extends Modelica.Icons.Function`: a base that declares nothing (an
+  // icon) adds nothing; one with variables or a body is not supported.
+  std::function<bool(const ast::ClassDef &, unsigned)> declaresNothing =
+      [&](const ast::ClassDef &c, unsigned depth) {
+        if (!c.components.empty() || !c.algorithm.empty() || depth > 32)
+          return false;
+        for (const ast::Extends &ext : c.extends) {
+          const ast::ClassDef *base = classes_.resolveClass(
+              ext.base, c.parent, c.file, /*report=*/false);
+          if (!base || !declaresNothing(*base, depth + 1))
+            return false;
+        }
+        return true;
+      };
+  for (const ast::Extends &ext : fn.extends) {
+    const ast::ClassDef *base =
+        classes_.resolveClass(ext.base, fn.parent, fn.file, /*report=*/false);
+    if (!base || !declaresNothing(*base, 0)) {
+      report(DiagId::ErrUnsupported, ext.loc,
+             {"'extends' in functions of a base with variables or a body"});
+      return std::nullopt;
+    }
   }
   std::vector<const ast::Component *> inputs;
   for (const ast::Component &c : fn.components)

@@ -282,11 +282,20 @@ void Flattener::elaborateComponent(InstNode &node) {
 
   // Array sizes are evaluated where the declaration is written.
   Scope declScope{node.parent, node.declClass};
-  for (const auto &dim : d.dims) {
+  // `Real table[:, 2] = [...]`: a size given as `:` is the binding's.
+  std::optional<Value> binding;
+  for (size_t k = 0; k < d.dims.size(); ++k) {
+    const auto &dim = d.dims[k];
     if (dim->kind == ast::ExprKind::Colon) {
-      report(DiagId::ErrArraySizeMissing, dim->loc, {d.name});
-      node.state = InstNode::State::Failed;
-      return;
+      if (!binding && node.mod && node.mod->value)
+        binding = lowerModValue(*node.mod);
+      if (!binding || binding->shape.size() != d.dims.size()) {
+        report(DiagId::ErrArraySizeMissing, dim->loc, {d.name});
+        node.state = InstNode::State::Failed;
+        return;
+      }
+      node.dims.push_back(binding->shape[k]);
+      continue;
     }
     // `Real x[E]` for an enumeration E: one element per literal.
     const ast::ClassDef *byEnum = enumerationNamed(*dim, declScope);
@@ -447,11 +456,10 @@ struct Collector {
       collect(*base, makeMod);
       extendsMods.pop_back();
     }
-    if (cls.algorithmInModel.valid())
-      f.report(DiagId::ErrUnsupported, cls.algorithmInModel,
-               {"initial algorithm sections"});
     for (const auto &section : cls.modelAlgorithms)
       node.algorithms.emplace_back(&section, &cls);
+    for (const auto &section : cls.initialAlgorithms)
+      node.initialAlgorithms.emplace_back(&section, &cls);
     for (const ast::Component &comp : cls.components) {
       ModPtr mod = (f.*makeMod)(comp.mod.get(), Scope{&node, &cls});
       for (auto it = extendsMods.rbegin(); it != extendsMods.rend(); ++it)

@@ -62,10 +62,11 @@ const ast::Statement *nestedWhen(const std::vector<ast::Statement> &list,
 } // namespace
 
 void Flattener::flattenAlgorithm(const std::vector<ast::Statement> &section,
-                                 const Scope &scope) {
+                                 const Scope &scope, bool initial) {
   if (section.empty() || !scope.cls)
     return;
-  if (const ast::Statement *w = nestedWhen(section, false)) {
+  // An initial algorithm holds no when-statement at all.
+  if (const ast::Statement *w = nestedWhen(section, initial)) {
     report(DiagId::ErrMisplaced, SourceRange{w->loc, 4},
            {"when", "a model's equations and the top level of its algorithm "
                     "sections"});
@@ -102,7 +103,7 @@ void Flattener::flattenAlgorithm(const std::vector<ast::Statement> &section,
   if (ran != ExecResult::Ok)
     return;
   EqSink sink;
-  sink.out = &model_->equations;
+  sink.out = initial ? &model_->initialEquations : &model_->equations;
   for (size_t k = 0; k < targets.size(); ++k) {
     const ast::Expr &t = *targets[k];
     if (std::find(whenTargets.begin(), whenTargets.end(), t.parts[0].name) !=
@@ -119,7 +120,8 @@ void Flattener::flattenAlgorithm(const std::vector<ast::Statement> &section,
       e.residual = ctx().sub(variables[k].elems[i], now.elems[i]);
       e.loc = t.loc;
       e.component = scope.inst ? scope.inst->path : "";
-      e.origin = ir::EquationOrigin::Declared;
+      e.origin = initial ? ir::EquationOrigin::Initial
+                         : ir::EquationOrigin::Declared;
       e.text = "algorithm: " + t.parts[0].name + " := ...";
       sink.out->push_back(std::move(e));
     }
