@@ -3,6 +3,7 @@
 #include "ir/Substitute.h"
 #include "Traverse.h"
 #include "ir/Query.h"
+#include "ir/Differentiate.h"
 
 #include <cassert>
 
@@ -98,10 +99,29 @@ ExprRef solveLinear(ExprContext &ctx, ExprRef r, VarId v) {
     return s.apply(r);
   };
   ExprRef r0 = at(0), a = ctx.sub(at(1), r0);
-  if (!a->isConstant() || a->isConstant(0) ||
-      ctx.sub(at(2), r0) != ctx.mul(ctx.constant(2), a))
+  if (a->isConstant() && !a->isConstant(0) &&
+      ctx.sub(at(2), r0) == ctx.mul(ctx.constant(2), a))
+    return ctx.div(ctx.neg(r0), a);
+  // The sums keep `0 * t` for a term t that may be undefined (a division
+  // by a parameter: `count - floor(p0 / p1)`, MSL's Trapezoid), so the
+  // difference above is not a constant. Linear all the same when every
+  // function, if or relation in r reads no variable at all (parameters and
+  // time only: their branch-wise derivatives hide no nonlinearity in v)
+  // and v's coefficient is constant.
+  for (ExprRef n : topologicalOrder(std::span(&r, 1))) {
+    ExprKind k = n->kind();
+    bool arithmetic = k == ExprKind::Add || k == ExprKind::Mul ||
+                      k == ExprKind::Variable || k == ExprKind::Constant ||
+                      k == ExprKind::Parameter || k == ExprKind::Time ||
+                      k == ExprKind::Pre;
+    if (!arithmetic && !freeVariables(n).empty())
+      return nullptr;
+  }
+  Differentiator d(ctx);
+  ExprRef coef = d.partial(r, VarKey{v, 0});
+  if (!coef->isConstant() || coef->isConstant(0))
     return nullptr;
-  return ctx.div(ctx.neg(r0), a);
+  return ctx.div(ctx.neg(r0), coef);
 }
 
 } // namespace ldae::ir

@@ -213,7 +213,30 @@ bool EventBuilder::partitionEquations() {
     (ir::isDiscreteEquation(e.residual, discrete_) ? discreteEqs_
                                                    : continuous_)
         .push_back(e);
-  return true;
+  // `Integer i = integer(10 * sin(10 * time))`: a discrete value that a
+  // step function of a continuous argument defines changes where that
+  // argument crosses an integer, events the relations do not locate; it
+  // would keep its value until some other event (OpenModelica's
+  // mathFunctionEvents). Refused, never a stale value.
+  bool ok = true;
+  for (const ir::Equation &e : discreteEqs_)
+    for (ir::ExprRef n : ir::topologicalOrder(std::span(&e.residual, 1))) {
+      if (n->kind() != ir::ExprKind::Call ||
+          (n->func() != ir::FuncKind::Floor && n->func() != ir::FuncKind::Ceil &&
+           n->func() != ir::FuncKind::Mod))
+        continue;
+      bool continuousArgument = false;
+      for (ir::ExprRef a : n->operands())
+        continuousArgument = continuousArgument || ir::dependsOnTime(a) ||
+                             ir::readsContinuous(a, discrete_);
+      if (!continuousArgument)
+        continue;
+      pc_.diags.report(DiagId::ErrDiscreteStepFunction, e.loc,
+                       {e.text, ir::funcName(n->func())});
+      ok = false;
+      break;
+    }
+  return ok;
 }
 
 void EventBuilder::collectSlots() {
@@ -834,7 +857,8 @@ bool EventBuilder::run() {
   initialDiscreteValues();
   if (failed_)
     return false;
-  partitionEquations();
+  if (!partitionEquations())
+    return false;
   collectSlots();
   addParameters();
 
