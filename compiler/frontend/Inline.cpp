@@ -114,10 +114,34 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   }
 
   Env fenv; // a function sees its own names only, never the caller's
+  // A variable's type: Real, Integer, Boolean, or a type that names one
+  // (MSL's `input SI.Temperature T`) or an enumeration, through short
+  // classes.
+  auto numericType = [&](const ast::Name &type) {
+    ast::Name cur = type;
+    const ast::ClassDef *scope = &fn;
+    uint32_t file = fn.file;
+    for (unsigned guard = 0; guard < 32; ++guard) {
+      if (!cur.global && cur.parts.size() == 1 &&
+          (cur.parts[0] == "Real" || cur.parts[0] == "Integer" ||
+           cur.parts[0] == "Boolean"))
+        return true;
+      const ast::ClassDef *cls =
+          classes_.resolveClass(cur, scope, file, /*report=*/false);
+      if (!cls)
+        return false;
+      if (enumerationOf(cls))
+        return true;
+      if (!cls->isShort)
+        return false;
+      scope = cls->parent;
+      file = cls->file;
+      cur = cls->shortBase;
+    }
+    return false;
+  };
   for (const ast::Component &c : fn.components) {
-    if (c.typeName.parts.size() != 1 ||
-        (c.typeName.parts[0] != "Real" && c.typeName.parts[0] != "Integer" &&
-         c.typeName.parts[0] != "Boolean")) {
+    if (!numericType(c.typeName)) {
       report(DiagId::ErrUnsupported, c.typeName.loc,
              {"function variables of type '" + c.typeName.str() + "'"});
       return std::nullopt;
