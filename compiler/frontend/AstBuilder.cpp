@@ -344,8 +344,6 @@ private:
         else if (type == LsdParser::FINAL)
           isFinal = true;
       }
-    if (inner && outer)
-      unsupported(loc(c), "'inner outer' components");
     if (redeclare)
       unsupported(loc(c), "'redeclare'");
     if (auto *cd = c->classDefinition()) {

@@ -548,10 +548,15 @@ void Flattener::linkOuterMembers(InstNode &node) {
         continue;
       for (const auto &c : p->members)
         if (c->name == m->name && c->decl && c->decl->isInner) {
-          m->inner = c.get();
+          // An `inner outer` one is itself its outer's inner.
+          m->inner = c->inner ? c->inner : c.get();
           break;
         }
     }
+    // `inner outer` with no inner above: the inner of the components
+    // below it, an ordinary component here.
+    if (!m->inner && m->decl->isInner)
+      continue;
     m->membersReady = true;
     if (!m->inner) {
       // Failed: its uses say nothing more.
