@@ -308,6 +308,17 @@ bool SgaCheckPass::runOn(PassContext &ctx, const SgaResult &sga,
     for (int e : c.sources)
       if (std::find(eqs.begin(), eqs.end(), e) == eqs.end())
         eqs.push_back(e);
+  // Relations of the unknowns choose branches of the equations; the SGA
+  // samples its ranks with them frozen, and a badly scaled branch (a slew
+  // limiter's 1/Td = 1e4) can make it see a constraint that is not there.
+  if (!sys.roots.empty()) {
+    Diagnostic &d = ctx.diags.report(
+        DiagId::ErrSgaFooledPiecewise,
+        eqs.empty() ? ctx.model.loc : ctx.model.equations[eqs.front()].loc,
+        {std::to_string(structural), std::to_string(sga.dof)});
+    noteEquations(ctx, d, eqs);
+    return false;
+  }
   std::string why =
       structural > sga.dof
           ? "the derivatives the model's equations contain are dependent "
