@@ -767,10 +767,15 @@ void EventBuilder::chooseMode() {
   for (ir::ParamId p = 0; p < out_.base; ++p)
     if (m_.parameters[p].value == 0.0)
       zeros.set(ctx_.param(p), ctx_.constant(0.0));
+  // `if initial() then ... else ... end if` (MSL's ElastoBacklash) chooses
+  // the equations of the initialization, not a structure to switch to
+  // after it: as a mode, the switch right after t = 0 moved the states by
+  // the jump rule, where nothing jumps. It stays a piecewise residual.
   auto chosenBy = [&](ir::ExprRef r) {
     std::vector<uint32_t> slots;
     for (ir::ParamId p : ir::freeParameters(r->operand(0)))
-      if (p >= out_.current(0) && p < out_.pre(0))
+      if (p >= out_.current(0) && p < out_.pre(0) &&
+          int(p - out_.base) != initialSlot_)
         slots.push_back(p - out_.base);
     return slots;
   };
