@@ -270,11 +270,17 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
   }
   if (name == "pre") {
     // In a model's algorithm section a name the section assigns is a local
-    // (ModelAlgorithms.cpp); pre() of it is the variable's.
-    if (scope.inst && env) {
+    // (ModelAlgorithms.cpp); pre() of it is the variable's, while loop
+    // indices stay visible.
+    if (algorithmLocals_ && env) {
       if (!argCount(1, 1))
         return std::nullopt;
-      std::optional<Value> v = lower(*call.args[0].value, scope, nullptr);
+      Env visible = *env;
+      std::erase_if(visible.vars, [&](const auto &var) {
+        return std::find(algorithmLocals_->begin(), algorithmLocals_->end(),
+                         var.first) != algorithmLocals_->end();
+      });
+      std::optional<Value> v = lower(*call.args[0].value, scope, &visible);
       if (!v)
         return std::nullopt;
       args.push_back(std::move(*v));

@@ -354,6 +354,9 @@ private:
   /// While a model's algorithm section runs: the names its when-statements
   /// assign (they get no `v = final value` equation); null otherwise.
   std::vector<std::string> *algorithmWhenTargets_ = nullptr;
+  /// While a model's algorithm section runs: the names it assigns (locals
+  /// that pre() looks past); null otherwise.
+  const std::vector<std::string> *algorithmLocals_ = nullptr;
   size_t statementBudget_ = 0;
 
   // FlattenEquations.cpp

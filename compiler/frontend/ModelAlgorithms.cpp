@@ -13,8 +13,11 @@ namespace ldae::frontend {
 
 namespace {
 
-/// The names the statements assign, in order of first assignment.
 void assignedNames(const std::vector<ast::Statement> &list,
+                   std::vector<const ast::Expr *> &out);
+
+/// The names statement `st` assigns, in order of first assignment.
+void assignedNames(const ast::Statement &st,
                    std::vector<const ast::Expr *> &out) {
   auto add = [&](const ast::Expr *target) {
     if (!target || target->kind != ast::ExprKind::Ref)
@@ -24,14 +27,19 @@ void assignedNames(const std::vector<ast::Statement> &list,
         return;
     out.push_back(target);
   };
-  for (const ast::Statement &st : list) {
-    if (st.kind == ast::StatementKind::Assign)
-      add(st.lhs.get());
-    for (const ast::ExprPtr &t : st.targets)
-      add(t.get());
-    for (const auto &branch : st.branches)
-      assignedNames(branch, out);
-  }
+  if (st.kind == ast::StatementKind::Assign)
+    add(st.lhs.get());
+  for (const ast::ExprPtr &t : st.targets)
+    add(t.get());
+  for (const auto &branch : st.branches)
+    assignedNames(branch, out);
+}
+
+/// The names the statements assign, in order of first assignment.
+void assignedNames(const std::vector<ast::Statement> &list,
+                   std::vector<const ast::Expr *> &out) {
+  for (const ast::Statement &st : list)
+    assignedNames(st, out);
 }
 
 /// The variable an assignment target names, whatever its subscripts.
@@ -96,12 +104,31 @@ void Flattener::flattenAlgorithm(const std::vector<ast::Statement> &section,
     env.set(t->parts[0].name, std::move(start));
     variables.push_back(std::move(*v));
   }
-  std::vector<std::string> whenTargets;
+  std::vector<std::string> whenTargets, locals;
+  for (const ast::Expr *t : targets)
+    locals.push_back(t->parts[0].name);
   algorithmWhenTargets_ = &whenTargets;
+  algorithmLocals_ = &locals;
   ExecResult ran = execStatements(section, *scope.cls, scope, env);
   algorithmWhenTargets_ = nullptr;
+  algorithmLocals_ = nullptr;
   if (ran != ExecResult::Ok)
     return;
+  // A name a when-statement assigns gets its values from the when-clause
+  // only: an assignment outside the when-statements would be lost.
+  std::vector<const ast::Expr *> outside;
+  for (const ast::Statement &st : section)
+    if (st.kind != ast::StatementKind::When)
+      assignedNames(st, outside);
+  for (const ast::Expr *t : outside)
+    if (std::find(whenTargets.begin(), whenTargets.end(), t->parts[0].name) !=
+        whenTargets.end()) {
+      report(DiagId::ErrUnsupported, SourceRange{t->loc, t->length},
+             {"assigning '" + t->parts[0].name +
+              "' both inside and outside the when-statements of an "
+              "algorithm section"});
+      return;
+    }
   EqSink sink;
   sink.out = initial ? &model_->initialEquations : &model_->equations;
   for (size_t k = 0; k < targets.size(); ++k) {
