@@ -186,6 +186,17 @@ struct RefTarget {
   InstNode *node = nullptr; // class instance, or leaf with `slot`
   int64_t slot = -1;
 };
+/// A subscript whose value is known only at run time: the dimension at
+/// `axis` of the selection (whole so far) and the 1-based index choosing
+/// one of its `size` elements.
+struct RunTimeSubscript {
+  size_t axis = 0;
+  int64_t size = 0;
+  ir::ExprRef index = nullptr;
+  std::string what; // the array as written
+  SourceRange where;
+};
+
 struct Selection {
   std::vector<int64_t> shape;
   std::vector<RefTarget> targets;
@@ -401,20 +412,32 @@ private:
   std::vector<ir::VarId> flowVars_; // flow variables of connectors
 
   // Lookup.cpp
-  std::optional<Selection> resolveInstancePath(const ast::Expr &ref,
-                                               size_t firstPart,
-                                               InstNode *start,
-                                               const Scope &scope, Env *env);
+  /// With `runTime`, the last part's subscripts on an array of values may
+  /// be known only at run time (see applySubscripts).
+  std::optional<Selection>
+  resolveInstancePath(const ast::Expr &ref, size_t firstPart, InstNode *start,
+                      const Scope &scope, Env *env,
+                      std::vector<RunTimeSubscript> *runTime = nullptr);
   std::optional<Value> packageConstant(const ast::Component &comp,
                                        const ast::ClassDef &owner,
                                        const ast::Expr &ref, size_t part,
                                        const Scope &scope, Env *env);
-  /// Applies subscripts `subs` to an array of shape `dims`.
+  /// Applies subscripts `subs` to an array of shape `dims`. With
+  /// `runTime`, a scalar subscript known only at run time (an Integer or
+  /// enumeration unknown) keeps its dimension whole and is recorded there
+  /// for selectAtRunTime; without it, such a subscript is an error.
   bool applySubscripts(const std::vector<ast::ExprPtr> &subs,
                        const std::vector<int64_t> &dims, const std::string &what,
                        const Scope &scope, Env *env,
                        std::vector<int64_t> &outShape,
-                       std::vector<int64_t> &outOffsets, SourceLoc loc);
+                       std::vector<int64_t> &outOffsets, SourceLoc loc,
+                       std::vector<RunTimeSubscript> *runTime = nullptr);
+  /// Collapses each recorded dimension of `v` to the element its run-time
+  /// subscript selects (frontend/RunTimeSubscripts.cpp).
+  Value selectAtRunTime(Value v, const std::vector<RunTimeSubscript> &runTime);
+  /// Whether `index` can only take integer values: it reads no Real
+  /// unknown and not time.
+  bool isIntegerValued(ir::ExprRef index);
 
 public:
   /// Limits against adversarial input (each reported once, then the

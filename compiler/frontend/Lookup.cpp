@@ -52,7 +52,8 @@ bool Flattener::applySubscripts(const std::vector<ast::ExprPtr> &subs,
                                 const std::string &what, const Scope &scope,
                                 Env *env, std::vector<int64_t> &outShape,
                                 std::vector<int64_t> &outOffsets,
-                                SourceLoc loc) {
+                                SourceLoc loc,
+                                std::vector<RunTimeSubscript> *runTime) {
   if (subs.size() > dims.size()) {
     report(DiagId::ErrTooManySubscripts, loc,
                   {what, std::to_string(dims.size()),
@@ -80,6 +81,20 @@ bool Flattener::applySubscripts(const std::vector<ast::ExprPtr> &subs,
     if (v->shape.size() > 1) {
       report(DiagId::ErrSubscriptNotInteger, subs[k]->loc, {what});
       return false;
+    }
+    if (runTime && v->shape.empty() && !constantValue(v->elems[0])) {
+      // Known at run time: keep the dimension whole; selectAtRunTime
+      // picks the element.
+      if (!isIntegerValued(v->elems[0])) {
+        report(DiagId::ErrSubscriptNotInteger, subs[k]->loc, {what});
+        return false;
+      }
+      for (int64_t i = 0; i < dims[k]; ++i)
+        chosen[k].push_back(i);
+      outShape.push_back(dims[k]);
+      runTime->push_back({outShape.size() - 1, dims[k], v->elems[0], what,
+                          SourceRange{subs[k]->loc, subs[k]->length}});
+      continue;
     }
     for (ir::ExprRef e : v->elems) {
       std::optional<double> c = constantValue(e);
@@ -118,7 +133,8 @@ bool Flattener::applySubscripts(const std::vector<ast::ExprPtr> &subs,
 
 std::optional<Selection>
 Flattener::resolveInstancePath(const ast::Expr &ref, size_t firstPart,
-                               InstNode *start, const Scope &scope, Env *env) {
+                               InstNode *start, const Scope &scope, Env *env,
+                               std::vector<RunTimeSubscript> *runTime) {
   Selection sel;
   sel.targets.push_back({start, -1});
   std::string written;
@@ -138,9 +154,20 @@ Flattener::resolveInstancePath(const ast::Expr &ref, size_t firstPart,
                       SourceRange{ref.loc, ref.length}, {written});
         return std::nullopt;
       }
+      // Only an array of values is selected at run time, and its
+      // dimensions are recorded once (every target has the same).
+      std::vector<RunTimeSubscript> ignored;
+      std::vector<RunTimeSubscript> *dynamic =
+          runTime && n->isLeaf() && i + 1 == ref.parts.size()
+              ? (first ? runTime : &ignored)
+              : nullptr;
+      size_t before = dynamic ? dynamic->size() : 0;
       if (!applySubscripts(part.subscripts, n->dims, written, scope, env,
-                           shape, offsets, ref.loc))
+                           shape, offsets, ref.loc, dynamic))
         return std::nullopt;
+      if (dynamic)
+        for (size_t d = before; d < dynamic->size(); ++d)
+          (*dynamic)[d].axis += next.shape.size();
       if (first)
         next.shape.insert(next.shape.end(), shape.begin(), shape.end());
       first = false;
@@ -228,14 +255,15 @@ Flattener::packageConstant(const ast::Component &comp,
   if (subs.empty() || value.isString)
     return value;
   std::vector<int64_t> shape, offsets;
+  std::vector<RunTimeSubscript> runTime;
   if (!applySubscripts(subs, value.shape, ref.refName(), scope, env, shape,
-                       offsets, ref.loc))
+                       offsets, ref.loc, &runTime))
     return std::nullopt;
   Value out;
   out.shape = shape;
   for (int64_t off : offsets)
     out.elems.push_back(value.elems[off]);
-  return out;
+  return selectAtRunTime(std::move(out), runTime);
 }
 
 /// `StateSelect.prefer` and friends: enumeration values of the one built-in
@@ -276,14 +304,15 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
         return std::nullopt;
       }
       std::vector<int64_t> shape, offsets;
+      std::vector<RunTimeSubscript> runTime;
       if (!applySubscripts(ref.parts[0].subscripts, v.shape, first, scope, env,
-                           shape, offsets, ref.loc))
+                           shape, offsets, ref.loc, &runTime))
         return std::nullopt;
       Value out;
       out.shape = shape;
       for (int64_t off : offsets)
         out.elems.push_back(v.elems[off]);
-      return out;
+      return selectAtRunTime(std::move(out), runTime);
     }
   // Components of the instance.
   if (!ref.global && scope.inst) {
@@ -292,8 +321,9 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
       return std::nullopt;
     }
     if (InstNode *member = scope.inst->findMember(first)) {
+      std::vector<RunTimeSubscript> runTime;
       std::optional<Selection> sel =
-          resolveInstancePath(ref, 0, member, scope, env);
+          resolveInstancePath(ref, 0, member, scope, env, &runTime);
       if (!sel)
         return std::nullopt;
       Value v;
@@ -314,7 +344,7 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
         const Slot &s = t.node->slots[t.slot];
         v.elems.push_back(s.isParam ? ctx().param(s.id) : ctx().var(s.id));
       }
-      return v;
+      return selectAtRunTime(std::move(v), runTime);
     }
   }
   // Built-in names.

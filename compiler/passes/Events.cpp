@@ -140,6 +140,23 @@ private:
   void chooseMode();
   ir::ExprRef cur(size_t k) { return ctx_.param(out_.current(k)); }
   ir::ExprRef pre(size_t k) { return ctx_.param(out_.pre(k)); }
+  /// pre(v) as the update reads it: for a discrete variable with
+  /// fixed = true, its start value while initial() holds (MLS 8.6: pre(v)
+  /// = v.start is an equation of the initialization, which the rounds of
+  /// the initial event must not move), so what reads it (MSL's Digital
+  /// gates, `y = pre(aux)`) changes after the initialization, in the event
+  /// iteration at the start time, where `change(x)` then fires.
+  ir::ExprRef preDuringInitialization(size_t k) {
+    const Slot &s = slots_[k];
+    if (initialSlot_ < 0 || s.kind != ir::DiscreteKind::Variable)
+      return pre(k);
+    const ir::Variable &v = m_.variables[s.var];
+    if (!v.fixed)
+      return pre(k);
+    return ctx_.ifThenElse(
+        cur(static_cast<size_t>(initialSlot_)),
+        v.startBinding ? v.startBinding : ctx_.constant(v.start), pre(k));
+  }
   double startValue(ir::ExprRef e);
 
   PassContext &pc_;
@@ -571,7 +588,7 @@ bool EventBuilder::buildUpdate() {
   for (size_t k = 0; k < K; ++k)
     if (slots_[k].node && slots_[k].kind != ir::DiscreteKind::Relation) {
       sd.set(slots_[k].node, cur(k));
-      sd.set(ctx_.pre(slots_[k].var), pre(k));
+      sd.set(ctx_.pre(slots_[k].var), preDuringInitialization(k));
     }
   // pre(x) of a continuous x: its value just before the event.
   std::vector<ir::ExprRef> all;

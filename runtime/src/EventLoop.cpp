@@ -417,11 +417,23 @@ EventOutcome EventLoop::initial(double t, std::vector<double> &y,
   // The initial event is not counted among the events.
   if (out == EventOutcome::Handled && !recent_.empty())
     recent_.pop_back();
-  if (out != EventOutcome::Failed && out != EventOutcome::ModeChange) {
-    setKind(LDAE_DISCRETE_SAMPLE, 0.0);
-    settle(LDAE_DISCRETE_INITIAL, t, y.data(), yp.data());
-  }
-  return out;
+  if (out == EventOutcome::Failed || out == EventOutcome::ModeChange ||
+      out == EventOutcome::Terminated)
+    return out;
+  // Initialization is over: what its values set off (`x = pre(v)` moving
+  // as pre(v) := v, `change(x) and not initial()`, `not initial()`)
+  // happens in the event iteration at the start time, as Dymola runs
+  // MSL's Digital gates.
+  setKind(LDAE_DISCRETE_SAMPLE, 0.0);
+  setKind(LDAE_DISCRETE_INITIAL, 0.0);
+  std::copy(ev_.discrete(), ev_.discrete() + nd_, ev_.pre());
+  EventOutcome after = iterate(t, y, yp, reinit);
+  if (after == EventOutcome::Handled && !recent_.empty())
+    recent_.pop_back();
+  if (after == EventOutcome::Unchanged ||
+      (after == EventOutcome::Restarted && out != EventOutcome::Unchanged))
+    return out;
+  return after;
 }
 
 EventOutcome EventLoop::handle(double t, std::vector<double> &y,

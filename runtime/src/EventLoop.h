@@ -64,8 +64,10 @@ public:
   /// The first time event strictly after t, or +infinity.
   double nextTimeEvent(double t, const double *y, const double *yp) const;
 
-  /// The initial event at `t` (initial() = 1): event iteration from the
-  /// start point, then initial() = 0. (y, y') in: the initialized point;
+  /// The initial event at `t` (initial() = 1): the initialization's
+  /// discrete values from the start values, then initial() = 0 and the
+  /// event iteration at t (pre(v) := v; a when-clause whose condition
+  /// becomes true there fires). (y, y') in: the initialized point;
   /// out: the point after the event (the integrator restarted there when
   /// it moved).
   EventOutcome initial(double t, std::vector<double> &y,

@@ -1,0 +1,88 @@
+// Subscripts known only at run time: `Tables.AndTable[x, y]` with x and y
+// Integer or enumeration unknowns, as MSL's Digital library reads its logic
+// tables. The selected dimension was kept whole; here each element of the
+// result becomes a choice over it, `if i == 1 then a[1] else if i == 2 ...`,
+// which every backend evaluates like any if-expression. The comparisons
+// generate no events: the index is piecewise constant, changing only at
+// events of its own. An index outside the dimension ends the run through an
+// assert at the subscript (MLS 10.5: an index out of bounds is an error),
+// never a silent pick of an edge element.
+#include "frontend/Flattener.h"
+
+#include "ir/Traverse.h"
+
+namespace ldae::frontend {
+
+bool Flattener::isIntegerValued(ir::ExprRef index) {
+  bool integer = true;
+  ir::ExprRef root[] = {index};
+  ir::postOrder(std::span<const ir::ExprRef>(root), [&](ir::ExprRef e) {
+    switch (e->kind()) {
+    case ir::ExprKind::Time:
+      integer = false;
+      break;
+    case ir::ExprKind::Variable:
+    case ir::ExprKind::Pre: {
+      const ir::Variable &v = model_->variables[e->var()];
+      if (!v.isInteger && !v.isBoolean)
+        integer = false;
+      break;
+    }
+    default:
+      break;
+    }
+  });
+  return integer;
+}
+
+Value Flattener::selectAtRunTime(Value v,
+                                 const std::vector<RunTimeSubscript> &runTime) {
+  // Last axis first, so the earlier ones keep their positions.
+  for (size_t r = runTime.size(); r-- > 0;) {
+    const RunTimeSubscript &sub = runTime[r];
+    int64_t outer = 1, inner = 1;
+    for (size_t k = 0; k < sub.axis; ++k)
+      outer *= v.shape[k];
+    for (size_t k = sub.axis + 1; k < v.shape.size(); ++k)
+      inner *= v.shape[k];
+    const int64_t size = v.shape[sub.axis];
+    Value out;
+    out.shape = v.shape;
+    out.shape.erase(out.shape.begin() + static_cast<std::ptrdiff_t>(sub.axis));
+    out.elems.reserve(static_cast<size_t>(outer * inner));
+    for (int64_t o = 0; o < outer; ++o)
+      for (int64_t i = 0; i < inner; ++i) {
+        auto element = [&](int64_t j) {
+          return v.elems[static_cast<size_t>((o * size + j) * inner + i)];
+        };
+        ir::ExprRef chosen = element(size - 1);
+        for (int64_t j = size - 1; j-- > 0;)
+          chosen = ctx().ifThenElse(
+              ctx().compare(ir::CompareKind::Eq, sub.index,
+                            ctx().constant(static_cast<double>(j + 1)),
+                            /*noEvent=*/true),
+              element(j), chosen);
+        out.elems.push_back(chosen);
+      }
+    ir::Assert inRange;
+    inRange.condition = ctx().logicalAnd(
+        ctx().compare(ir::CompareKind::Ge, sub.index, ctx().one(), true),
+        ctx().compare(ir::CompareKind::Le, sub.index,
+                      ctx().constant(static_cast<double>(size)), true));
+    inRange.message = "index out of range for '" + sub.what + "' of size " +
+                      std::to_string(size);
+    inRange.loc = sub.where.begin;
+    // The same read lowered again (a loop body, an inlined function) needs
+    // one check.
+    bool known = false;
+    for (const ir::Assert &a : model_->asserts)
+      known = known || (a.condition == inRange.condition &&
+                        a.message == inRange.message);
+    if (!known)
+      model_->asserts.push_back(std::move(inRange));
+    v = std::move(out);
+  }
+  return v;
+}
+
+} // namespace ldae::frontend
