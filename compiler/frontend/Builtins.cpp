@@ -1,11 +1,13 @@
 // Calls: the built-in functions and operators of LANGUAGE.md (der by the
 // chain rule, pre, reductions, size, array constructors, math functions)
 // and the dispatch to user functions, which Inline.cpp inlines.
+#include "frontend/Concatenate.h"
 #include "frontend/Flattener.h"
 
 #include "ir/Substitute.h"
 
 #include <cmath>
+#include <limits>
 
 namespace ldae::frontend {
 namespace {
@@ -44,7 +46,7 @@ bool isBuiltinName(const std::string &n) {
       "linspace", "transpose", "vector", "scalar", "cross", "diagonal", "div",
       "rem", "integer", "Integer", "sample", "edge", "change", "delay",
       "reinit", "assert", "terminate", "cardinality", "semiLinear", "String",
-      "abs", "sign", "sqrt", "min", "max", "mod", "floor", "ceil",
+      "abs", "sign", "sqrt", "min", "max", "mod", "floor", "ceil", "cat",
   };
   for (const char *b : names)
     if (n == b)
@@ -477,6 +479,28 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     if (!argCount(1, 1) || !lowerArgs())
       return std::nullopt;
     return Value::scalar(c.constant(static_cast<double>(args[0].shape.size())));
+  }
+  if (name == "cat") {
+    // cat(k, A, B, ...) joins along dimension k (MLS 10.4.2).
+    if (!argCount(2, std::numeric_limits<size_t>::max()) || !lowerArgs())
+      return std::nullopt;
+    std::optional<int64_t> k = intArg(0);
+    if (!k)
+      return std::nullopt;
+    std::vector<Value> parts(args.begin() + 1, args.end());
+    size_t ndims = parts[0].shape.size();
+    if (*k < 1 || static_cast<size_t>(*k) > ndims) {
+      report(DiagId::ErrIndexOutOfRange, where,
+             {fmtInteger(static_cast<double>(*k)), "cat", std::to_string(ndims)});
+      return std::nullopt;
+    }
+    std::pair<std::string, std::string> mismatch;
+    std::optional<Value> r =
+        concatenate(parts, static_cast<size_t>(*k - 1), mismatch);
+    if (!r)
+      report(DiagId::ErrShapeMismatch, where,
+             {"cat", mismatch.first, mismatch.second});
+    return r;
   }
   if (name == "zeros" || name == "ones" || name == "fill") {
     size_t first = name == "fill" ? 1 : 0;

@@ -3,6 +3,7 @@
 // if-expressions (decided at compile time when the condition is a
 // parameter expression), array constructors and comprehensions, ranges,
 // and compile-time evaluation of parameter expressions.
+#include "frontend/Concatenate.h"
 #include "frontend/Flattener.h"
 
 #include "ir/Evaluate.h"
@@ -537,30 +538,51 @@ std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
     return r;
   }
   case ast::ExprKind::Matrix: {
-    // [a, b; c, d] of scalars: each row a row of the matrix.
-    Value r;
-    int64_t cols = -1;
+    // MLS 10.4.2: [a, b; c, d] is cat(1, cat(2, a, b), cat(2, c, d)),
+    // every element promoted to at least two dimensions (MSL's Digital
+    // tables: [ {{{...}}} ] of a 9x4x4 array).
+    std::vector<std::vector<Value>> rows;
+    size_t ndims = 2;
     for (const auto &row : e.rows) {
-      if (cols >= 0 && static_cast<int64_t>(row.size()) != cols) {
-        report(DiagId::ErrShapeMismatch, SourceRange{e.loc, e.length},
-               {"[;]", std::to_string(cols) + " columns",
-                std::to_string(row.size()) + " columns"});
-        return std::nullopt;
-      }
-      cols = static_cast<int64_t>(row.size());
+      rows.emplace_back();
       for (const auto &x : row) {
         std::optional<Value> v = lower(*x, scope, env);
         if (!v)
           return std::nullopt;
-        if (!v->isScalar()) {
-          report(DiagId::ErrUnsupported, x->loc,
-                 {"matrix constructors of arrays"});
+        if (v->isString) {
+          report(DiagId::ErrStringOperand, SourceRange{x->loc, x->length},
+                 {"[]"});
           return std::nullopt;
         }
-        r.elems.push_back(v->scalarExpr());
+        ndims = std::max(ndims, v->shape.size());
+        rows.back().push_back(std::move(*v));
       }
     }
-    r.shape = {static_cast<int64_t>(e.rows.size()), std::max<int64_t>(cols, 0)};
+    if (rows.empty() || std::any_of(rows.begin(), rows.end(),
+                                    [](const auto &r) { return r.empty(); })) {
+      Value r;
+      r.shape = {static_cast<int64_t>(rows.size()), 0};
+      return r;
+    }
+    std::pair<std::string, std::string> mismatch;
+    std::vector<Value> joined;
+    for (std::vector<Value> &row : rows) {
+      for (Value &v : row)
+        v = promote(std::move(v), ndims);
+      std::optional<Value> r = concatenate(row, 1, mismatch);
+      if (!r) {
+        report(DiagId::ErrShapeMismatch, SourceRange{e.loc, e.length},
+               {"[,]", mismatch.first, mismatch.second});
+        return std::nullopt;
+      }
+      joined.push_back(std::move(*r));
+    }
+    std::optional<Value> r = concatenate(joined, 0, mismatch);
+    if (!r) {
+      report(DiagId::ErrShapeMismatch, SourceRange{e.loc, e.length},
+             {"[;]", mismatch.first, mismatch.second});
+      return std::nullopt;
+    }
     return r;
   }
   case ast::ExprKind::Range: {
