@@ -44,6 +44,11 @@ struct Scope {
 struct Env {
   Env *parent = nullptr;
   std::vector<std::pair<std::string, Value>> vars;
+  /// Where the statements run so far left the innermost loop (`break`)
+  /// or the function (`return`): null never, else a condition (1: on
+  /// every path). A later assignment takes effect only where neither
+  /// holds.
+  ir::ExprRef breaking = nullptr, returning = nullptr;
 
   Value *find(const std::string &name);
   void set(const std::string &name, Value v);
@@ -365,6 +370,14 @@ private:
   /// While a model's algorithm section runs: the names its when-statements
   /// assign (they get no `v = final value` equation); null otherwise.
   std::vector<std::string> *algorithmWhenTargets_ = nullptr;
+  /// Loops around the statement being run (a `break` outside one is an
+  /// error).
+  int loopDepth_ = 0;
+  /// Where the statements so far left (break or return), or null.
+  ir::ExprRef exitedOf(const Env &env);
+  /// Runs one iteration's body of a loop: false when every path has left
+  /// the loop (break or return) and it must stop.
+  bool continueLoop(Env &env);
   /// While a model's algorithm section runs: the names it assigns (locals
   /// that pre() looks past); null otherwise.
   const std::vector<std::string> *algorithmLocals_ = nullptr;

@@ -273,6 +273,15 @@ bool Flattener::assign(const ast::Expr &target, Value value,
     report(DiagId::ErrStringOperand, where, {":="});
     return false;
   }
+  // After a break or return on some paths, the assignment holds on the
+  // others only.
+  ir::ExprRef exited = exitedOf(env);
+  auto write = [&](ir::ExprRef &element, ir::ExprRef v) {
+    if (!exited)
+      element = v;
+    else
+      element = element ? ctx().ifThenElse(exited, element, v) : nullptr;
+  };
   const auto &subs = target.parts[0].subscripts;
   if (subs.empty()) {
     if (value.shape != slot->shape) {
@@ -282,10 +291,12 @@ bool Flattener::assign(const ast::Expr &target, Value value,
         return false;
       }
       // A scalar fills the array.
-      std::fill(slot->elems.begin(), slot->elems.end(), value.elems[0]);
+      for (ir::ExprRef &element : slot->elems)
+        write(element, value.elems[0]);
       return true;
     }
-    *slot = std::move(value);
+    for (size_t i = 0; i < slot->elems.size(); ++i)
+      write(slot->elems[i], value.elems[i]);
     return true;
   }
   std::vector<int64_t> shape, offsets;
@@ -300,7 +311,8 @@ bool Flattener::assign(const ast::Expr &target, Value value,
     return false;
   }
   for (size_t i = 0; i < offsets.size(); ++i)
-    slot->elems[offsets[i]] = value.shape.empty() ? value.elems[0] : value.elems[i];
+    write(slot->elems[offsets[i]],
+          value.shape.empty() ? value.elems[0] : value.elems[i]);
   return true;
 }
 
@@ -333,6 +345,13 @@ Flattener::ExecResult Flattener::execIf(const ast::Statement &st, size_t branch,
       execIf(st, branch + 1, fn, fscope, elseEnv) != ExecResult::Ok)
     return ExecResult::Error;
   ir::ExprRef c = cond->scalarExpr();
+  auto mergeExit = [&](ir::ExprRef a, ir::ExprRef b) -> ir::ExprRef {
+    if (a == b)
+      return a;
+    return ctx().ifThenElse(c, a ? a : ctx().zero(), b ? b : ctx().zero());
+  };
+  env.breaking = mergeExit(thenEnv.breaking, elseEnv.breaking);
+  env.returning = mergeExit(thenEnv.returning, elseEnv.returning);
   for (size_t k = 0; k < env.vars.size(); ++k) {
     Value &out = env.vars[k].second;
     const Value &a = thenEnv.vars[k].second, &b = elseEnv.vars[k].second;
@@ -349,6 +368,9 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
                           const ast::ClassDef &fn, const Scope &fscope,
                           Env &env) {
   for (const ast::Statement &st : list) {
+    if (ir::ExprRef exited = exitedOf(env))
+      if (constantValue(exited).value_or(0) != 0)
+        return ExecResult::Ok; // every path has left
     if (++statementBudget_ > kMaxStatements) {
       report(DiagId::ErrLoopTooLong, st.loc, {fn.name});
       return ExecResult::Error;
@@ -387,21 +409,34 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
         return ExecResult::Error;
       break;
     case ast::StatementKind::For: {
+      ir::ExprRef outerBreak = env.breaking;
+      env.breaking = nullptr;
+      ++loopDepth_;
+      bool stop = false; // every path has left the loop
       std::function<bool(size_t)> loop = [&](size_t k) -> bool {
-        if (k == st.iterators.size())
-          return execStatements(st.branches[0], fn, fscope, env) ==
-                 ExecResult::Ok;
+        if (k == st.iterators.size()) {
+          if (execStatements(st.branches[0], fn, fscope, env) !=
+              ExecResult::Ok)
+            return false;
+          stop = !continueLoop(env);
+          return true;
+        }
         auto values = iteratorValues(st.iterators[k], fscope, &env);
         if (!values)
           return false;
         for (double x : *values) {
+          if (stop)
+            break;
           env.set(st.iterators[k].name, Value::scalar(ctx().constant(x)));
           if (!loop(k + 1))
             return false;
         }
         return true;
       };
-      if (!loop(0))
+      bool ok = loop(0);
+      --loopDepth_;
+      env.breaking = outerBreak;
+      if (!ok)
         return ExecResult::Error;
       break;
     }
@@ -424,8 +459,18 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
         }
         if (*known == 0)
           break;
-        if (execStatements(st.branches[0], fn, fscope, env) != ExecResult::Ok)
+        ir::ExprRef outerBreak = env.breaking;
+        env.breaking = nullptr;
+        ++loopDepth_;
+        bool ok = execStatements(st.branches[0], fn, fscope, env) ==
+                  ExecResult::Ok;
+        --loopDepth_;
+        bool more = ok && continueLoop(env);
+        env.breaking = outerBreak;
+        if (!ok)
           return ExecResult::Error;
+        if (!more)
+          break;
       }
       break;
     }
@@ -441,13 +486,33 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
                                   : "a model's equations"});
       return ExecResult::Error;
     case ast::StatementKind::Break:
+      if (loopDepth_ == 0) {
+        report(DiagId::ErrMisplaced, where, {"break", "a for or while loop"});
+        return ExecResult::Error;
+      }
+      env.breaking = ctx().one();
+      break;
     case ast::StatementKind::Return:
-      report(DiagId::ErrUnsupported, where,
-             {st.kind == ast::StatementKind::Break ? "'break'" : "'return'"});
-      return ExecResult::Error;
+      if (fscope.inst) {
+        report(DiagId::ErrMisplaced, where, {"return", "a function"});
+        return ExecResult::Error;
+      }
+      env.returning = ctx().one();
+      break;
     }
   }
   return ExecResult::Ok;
+}
+
+ir::ExprRef Flattener::exitedOf(const Env &env) {
+  if (env.breaking && env.returning)
+    return ctx().logicalOr(env.breaking, env.returning);
+  return env.breaking ? env.breaking : env.returning;
+}
+
+bool Flattener::continueLoop(Env &env) {
+  ir::ExprRef exited = exitedOf(env);
+  return !exited || constantValue(exited).value_or(0) == 0;
 }
 
 } // namespace ldae::frontend
