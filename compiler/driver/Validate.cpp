@@ -311,9 +311,13 @@ bool isClassName(const std::string &input) {
   for (char c : input)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '.')
       return false;
+  auto endsWith = [&](const std::string &suffix) {
+    return input.size() >= suffix.size() &&
+           input.compare(input.size() - suffix.size(), suffix.size(),
+                         suffix) == 0;
+  };
   return input.back() != '.' && input.find("..") == std::string::npos &&
-         input.size() > 4 && input.compare(input.size() - 4, 4, ".lsd") != 0 &&
-         input.compare(input.size() - 3, 3, ".mo") != 0;
+         !endsWith(".lsd") && !endsWith(".mo");
 }
 
 

@@ -126,6 +126,23 @@ LexicalHit ClassTable::lookupImports(const std::string &name,
     // Import paths are always global: resolved from the file's top level.
     const ast::ClassDef *target =
         resolveClass(path, nullptr, cls.file, /*report=*/false);
+    if (!target && !imp.wildcard && imp.names.empty() &&
+        imp.path.size() > 1) {
+      // `import Modelica.Constants.k`: a constant of a package, not a
+      // class (MSL's Semiconductors package imports Boltzmann's constant).
+      ast::Name package;
+      package.parts.assign(imp.path.begin(), imp.path.end() - 1);
+      package.loc = imp.loc;
+      const ast::ClassDef *owner =
+          resolveClass(package, nullptr, cls.file, /*report=*/false);
+      --importDepth_;
+      if (owner) {
+        LexicalHit hit = lookupIn(imp.path.back(), *owner);
+        if (hit.comp)
+          return hit;
+      }
+      continue;
+    }
     --importDepth_;
     if (!target)
       continue;

@@ -1,4 +1,5 @@
 within Lib;
 package Sub
   import Lib.Resistor;
+  constant Real half = 0.5;
 end Sub;
