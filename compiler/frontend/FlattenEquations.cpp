@@ -315,12 +315,10 @@ void Flattener::flattenCallEquation(const ast::Equation &eq, const Scope &scope,
       return;
     }
     const ast::Expr &msg = *call.args[0].value;
-    if (msg.kind != ast::ExprKind::String) {
-      report(DiagId::ErrMessageNotLiteral, SourceRange{msg.loc, msg.length},
-             {"terminate"});
+    std::optional<std::string> text = messageText(msg, "terminate", scope, env);
+    if (!text)
       return;
-    }
-    sink.when->terminates.push_back({msg.text, eq.loc});
+    sink.when->terminates.push_back({*text, eq.loc});
     return;
   }
   if (name != "reinit") {
@@ -386,13 +384,11 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
            {"assert", "2 to 3", std::to_string(call.args.size())});
     return;
   }
-  if (message->kind != ast::ExprKind::String) {
-    report(DiagId::ErrMessageNotLiteral,
-           SourceRange{message->loc, message->length}, {"assert"});
+  std::optional<std::string> text = messageText(*message, "assert", scope, env);
+  if (!text)
     return;
-  }
   ir::Assert a;
-  a.message = message->text;
+  a.message = *text;
   a.loc = eq.loc;
   if (level) {
     std::string l = level->kind == ast::ExprKind::Ref ? level->refName() : "";
@@ -415,6 +411,20 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
   // An array condition holds where every element does.
   a.condition = ctx().logicalAnd(c->elems);
   model_->asserts.push_back(std::move(a));
+}
+
+std::optional<std::string>
+Flattener::messageText(const ast::Expr &message, const char *what,
+                       const Scope &scope, Env *env) {
+  std::optional<Value> v = lower(message, scope, env);
+  if (!v)
+    return std::nullopt;
+  if (!v->isString) {
+    report(DiagId::ErrMessageNotLiteral,
+           SourceRange{message.loc, message.length}, {what});
+    return std::nullopt;
+  }
+  return v->str;
 }
 
 } // namespace ldae::frontend

@@ -250,6 +250,16 @@ public:
 
   // ----- Lower.cpp
   std::optional<Value> lower(const ast::Expr &e, const Scope &scope, Env *env);
+  /// The message of assert or terminate: a String expression ("..." +
+  /// String(p)) with a value when compiling.
+  std::optional<std::string> messageText(const ast::Expr &message,
+                                         const char *what, const Scope &scope,
+                                         Env *env);
+  /// String(x, significantDigits = 6, minimumLength = 0, leftJustified =
+  /// true) and String(x, format = "...") of a value known when compiling
+  /// (StringCalls.cpp).
+  std::optional<Value> lowerStringCall(const ast::Expr &call,
+                                       const Scope &scope, Env *env);
   /// `e` as a number known at compile time (parameters allowed);
   /// `what` names the use in the error ("array size", "subscript").
   std::optional<double> evalConstant(const ast::Expr &e, const Scope &scope,
