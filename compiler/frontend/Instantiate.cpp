@@ -517,7 +517,9 @@ void Flattener::elaborateInstance(InstNode &node) {
     if (!ext)
       continue;
     for (auto &[name, sub] : ext->subs)
-      if (!node.findMember(name)) {
+      // A removed conditional component takes its modifiers with it
+      // (MLS 4.4.5: MSL's adaptors modify their optional pder2).
+      if (!node.findMember(name) && !node.findRemoved(name)) {
         std::vector<std::string> names;
         for (const auto &m : node.members)
           names.push_back(m->name);
