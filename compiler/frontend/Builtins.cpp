@@ -456,10 +456,27 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
       return Value::scalar(c.add(args[0].elems));
     return Value::scalar(c.mul(args[0].elems));
   }
-  if (name == "size") {
-    if (!argCount(1, 2) || !lowerArgs())
+  // The shape of size()'s and ndims()'s argument: a function's local
+  // has one before it is assigned (`Real den1[size(cr, 1)]` of an output
+  // cr, in MSL's filter functions).
+  auto argShape = [&]() -> std::optional<std::vector<int64_t>> {
+    const ast::Expr &a = *call.args[0].value;
+    if (env && !a.global && a.kind == ast::ExprKind::Ref &&
+        a.parts.size() == 1 && a.parts[0].subscripts.empty())
+      if (Value *local = env->find(a.parts[0].name))
+        if (!local->isString)
+          return local->shape;
+    if (!lowerArgs())
       return std::nullopt;
-    const std::vector<int64_t> &shape = args[0].shape;
+    return args[0].shape;
+  };
+  if (name == "size") {
+    if (!argCount(1, 2))
+      return std::nullopt;
+    std::optional<std::vector<int64_t>> argShapeValue = argShape();
+    if (!argShapeValue)
+      return std::nullopt;
+    const std::vector<int64_t> &shape = *argShapeValue;
     if (args.size() == 1) {
       Value r;
       r.shape.push_back(static_cast<int64_t>(shape.size()));
@@ -478,9 +495,12 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     return Value::scalar(c.constant(static_cast<double>(shape[*k - 1])));
   }
   if (name == "ndims") {
-    if (!argCount(1, 1) || !lowerArgs())
+    if (!argCount(1, 1))
       return std::nullopt;
-    return Value::scalar(c.constant(static_cast<double>(args[0].shape.size())));
+    std::optional<std::vector<int64_t>> shape = argShape();
+    if (!shape)
+      return std::nullopt;
+    return Value::scalar(c.constant(static_cast<double>(shape->size())));
   }
   if (name == "cat") {
     // cat(k, A, B, ...) joins along dimension k (MLS 10.4.2).

@@ -290,14 +290,19 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
         return std::nullopt;
       }
       Value v = *local;
-      for (ir::ExprRef e : v.elems)
-        if (!e) {
-          report(DiagId::ErrUsedBeforeAssigned,
-                        SourceRange{ref.loc, ref.length}, {first});
-          return std::nullopt;
-        }
+      // Only the elements read must have values: `den2[i, 2] := 2 *
+      // den2[i, 1]` fills an array element by element.
+      auto assigned = [&](const Value &read) {
+        for (ir::ExprRef e : read.elems)
+          if (!e) {
+            report(DiagId::ErrUsedBeforeAssigned,
+                   SourceRange{ref.loc, ref.length}, {first});
+            return false;
+          }
+        return true;
+      };
       if (ref.parts[0].subscripts.empty())
-        return v;
+        return assigned(v) ? std::optional<Value>(v) : std::nullopt;
       if (v.isString || v.shape.empty()) {
         report(DiagId::ErrNotAnArray, SourceRange{ref.loc, ref.length},
                       {first});
@@ -312,6 +317,8 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
       out.shape = shape;
       for (int64_t off : offsets)
         out.elems.push_back(v.elems[off]);
+      if (!assigned(out))
+        return std::nullopt;
       return selectAtRunTime(std::move(out), runTime);
     }
   // Components of the instance.
