@@ -221,6 +221,8 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
 
   if (name == "String")
     return lowerStringCall(call, scope, env);
+  if (name == "cardinality")
+    return lowerCardinality(call, scope, env);
   for (const ast::Arg &a : call.args)
     if (!a.name.empty() && name != "homotopy" && name != "assert") {
       report(DiagId::ErrNamedArgBuiltin, SourceRange{a.value->loc, a.value->length},

@@ -93,6 +93,8 @@ void Flattener::addConnect(const ast::Equation &eq, const Scope &scope,
               targetName(b->targets[i]), b->targets[i].node->typeName});
       return;
     }
+    ++connectCount_[a->targets[i].node];
+    ++connectCount_[b->targets[i].node];
   }
 }
 

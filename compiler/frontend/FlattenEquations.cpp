@@ -97,6 +97,8 @@ void Flattener::flattenEquation(const ast::Equation &eq, const Scope &scope,
   if (overBudget())
     return;
   SourceRange where{eq.loc, eq.length};
+  if (connectSweep_ && !containsConnect(eq))
+    return;
   switch (eq.kind) {
   case ast::EquationKind::Simple: {
     if (eq.lhs->kind == ast::ExprKind::Tuple) {
@@ -169,6 +171,8 @@ void Flattener::flattenEquation(const ast::Equation &eq, const Scope &scope,
     return;
   }
   case ast::EquationKind::Connect:
+    if (connectsCollected_)
+      return; // in before every other equation (collectConnects)
     if (sink.when || sink.inVariableIf ||
         sink.origin == ir::EquationOrigin::Initial) {
       report(DiagId::ErrMisplaced, where,
@@ -227,6 +231,10 @@ void Flattener::flattenIf(const ast::Equation &eq, const Scope &scope,
       flattenEquation(body, scope, env, sink);
     return;
   }
+  // A connect under a condition on variables is an error the main sweep
+  // reports.
+  if (connectSweep_)
+    return;
   if (sink.when) {
     report(DiagId::ErrUnsupported, eq.loc,
            {"if-equations on variables inside when-equations"});

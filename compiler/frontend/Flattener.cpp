@@ -80,6 +80,10 @@ std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
   elaborateInstance(*root_);
   root_->state = InstNode::State::Done;
   readExperiment(cls, *root_);
+  connectSweep_ = true;
+  collectConnects(*root_);
+  connectSweep_ = false;
+  connectsCollected_ = true;
   flattenInstance(*root_);
   buildConnectionEquations();
 

@@ -403,6 +403,20 @@ private:
     bool inVariableIf = false;
   };
   void flattenInstance(InstNode &node);
+  /// The connect equations of the whole instance tree, before any other
+  /// equation, so that cardinality() counts them all (Cardinality.cpp).
+  void collectConnects(InstNode &node);
+  /// While collectConnects runs: only connect equations (and the for- and
+  /// if-equations around them) are flattened.
+  bool connectSweep_ = false;
+  /// After it: the connect equations are in, the main sweep skips them.
+  bool connectsCollected_ = false;
+  /// How many connect equations name each connector instance.
+  std::unordered_map<const InstNode *, int> connectCount_;
+  /// cardinality(c) (MLS 3.7.2.3): the number of connect equations that
+  /// name connector c, a constant.
+  std::optional<Value> lowerCardinality(const ast::Expr &call,
+                                        const Scope &scope, Env *env);
   void flattenBinding(InstNode &leaf);
   void flattenEquation(const ast::Equation &eq, const Scope &scope, Env *env,
                        EqSink &sink);
@@ -512,6 +526,10 @@ public:
   ir::Differentiator &differentiator() { return *diff_; }
   const std::vector<std::string> &attributeNames(BuiltinType t) const;
 };
+
+/// Whether `eq` is a connect equation or holds one (in a for- or
+/// if-equation).
+bool containsConnect(const ast::Equation &eq);
 
 /// Flat name of element `index` (0-based, row-major) of an array of `dims`:
 /// `x[2]`, `A[1,3]`.
