@@ -56,7 +56,7 @@ std::vector<std::string> reportableNames(const ir::Model &model) {
   std::vector<std::string> names;
   for (ir::VarId v = 0; v < model.variables.size(); ++v) {
     const ir::Variable &var = model.variables[v];
-    if (var.input != ir::EventInput::None)
+    if (var.input != ir::EventInput::None || var.generated)
       continue;
     names.push_back(var.name);
     if (differentiated.count(v))

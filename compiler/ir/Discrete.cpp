@@ -27,12 +27,19 @@ bool isEventRelation(ExprRef e, const std::vector<bool> &discrete) {
   return false;
 }
 
+bool isStepFunction(ExprRef e) {
+  return e->kind() == ExprKind::Call &&
+         (e->func() == FuncKind::Floor || e->func() == FuncKind::Ceil);
+}
+
 bool readsContinuous(ExprRef e, const std::vector<bool> &discrete) {
   bool found = false;
   ExprRef roots[] = {e};
   postOrder(
       roots,
-      [&](ExprRef n) { return found || isEventRelation(n, discrete); },
+      [&](ExprRef n) {
+        return found || isEventRelation(n, discrete) || isStepFunction(n);
+      },
       [&](ExprRef n) {
         if (n->kind() == ExprKind::Variable &&
             (n->var() >= discrete.size() || !discrete[n->var()]))

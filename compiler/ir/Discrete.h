@@ -18,9 +18,14 @@ std::vector<bool> discreteVariables(const Model &m);
 /// whose operands read a continuous variable or time.
 bool isEventRelation(ExprRef e, const std::vector<bool> &discrete);
 
+/// floor() and ceil() (integer() is floor): piecewise constant, changing
+/// at events the events pass makes of their crossings.
+bool isStepFunction(ExprRef e);
+
 /// True when `e` reads a continuous variable outside the event relations
-/// (whose values are discrete): an equation that does not is an equation
-/// of discrete values (`on = time > 0.5`, `off = s < 0`).
+/// and step functions (whose values are discrete): an equation that does
+/// not is an equation of discrete values (`on = time > 0.5`, `off = s <
+/// 0`, `n = integer(x)`).
 bool readsContinuous(ExprRef e, const std::vector<bool> &discrete);
 
 /// True for an equation of discrete values: it reads a discrete variable

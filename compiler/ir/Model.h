@@ -52,6 +52,9 @@ struct Variable {
   bool isInteger = false;  // declared Integer (printed as such)
   bool isBoolean = false;  // declared Boolean (printed as such)
   EventInput input = EventInput::None;
+  /// Made by the compiler, not written in the model (the value of a step
+  /// function the events pass keeps at its crossings): never reported.
+  bool generated = false;
   ExprRef sampleStart = nullptr, sampleInterval = nullptr; // input Sample
 };
 

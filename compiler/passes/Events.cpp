@@ -127,6 +127,7 @@ private:
   /// The parameters `e` reads were folded into a value of the compiled
   /// model: they fix it (ir::Parameter::structural).
   void markStructural(ir::ExprRef e);
+  void stepFunctionEvents();
   bool partitionEquations();
   void collectSlots();
   void addParameters();
@@ -223,6 +224,93 @@ void EventBuilder::initialDiscreteValues() {
       kept.push_back(std::move(e));
   }
   m_.initialEquations = std::move(kept);
+}
+
+/// floor(x) and ceil(x) (integer(x) is floor) of a continuous or
+/// time-dependent x jump where x crosses an integer. Each becomes a
+/// discrete Integer k, assigned at the crossings by
+///   when {initial(), x >= k + 1, x < k} then k = floor(x);
+///   (ceil: x > k, x <= k - 1)
+/// whose relations the integrator locates, as OpenModelica makes events of
+/// them (its mathFunctionEvents test): MSL's StateGraphRoot counts its
+/// active steps as integer() of a flow sum.
+void EventBuilder::stepFunctionEvents() {
+  // Initial equations (and initial algorithms) are evaluated once, at the
+  // start: their step functions need no events and keep their argument.
+  std::vector<ir::ExprRef> roots;
+  for (const ir::Equation &e : m_.equations)
+    roots.push_back(e.residual);
+  for (const ir::WhenClause &w : m_.whenClauses) {
+    for (const ir::Equation &e : w.equations)
+      roots.push_back(e.residual);
+    for (ir::ExprRef c : conditionsOf(w))
+      roots.push_back(c);
+  }
+  ir::Substitution stepOf(ctx_);
+  std::vector<ir::WhenClause> clauses;
+  ir::ExprRef initial = nullptr;
+  for (ir::ExprRef n : ir::topologicalOrder(roots)) {
+    if (n->kind() != ir::ExprKind::Call ||
+        (n->func() != ir::FuncKind::Floor && n->func() != ir::FuncKind::Ceil))
+      continue;
+    ir::ExprRef x = n->operand(0);
+    if (!ir::dependsOnTime(x) && !ir::readsContinuous(x, discrete_))
+      continue;
+    if (!initial) {
+      std::optional<ir::VarId> iv = m_.findVariable("initial()");
+      if (!iv) {
+        ir::Variable v;
+        v.name = "initial()";
+        v.isDiscrete = v.isBoolean = true;
+        v.input = ir::EventInput::Initial;
+        iv = m_.addVariable(std::move(v));
+        discrete_.push_back(true);
+      }
+      initial = ctx_.var(*iv);
+    }
+    ir::Variable v;
+    v.name = ir::printLsd(n, &m_);
+    v.isDiscrete = v.isInteger = v.generated = true;
+    ir::VarId k = m_.addVariable(std::move(v));
+    discrete_.push_back(true);
+    ir::ExprRef kv = ctx_.var(k);
+    bool up = n->func() == ir::FuncKind::Floor;
+    ir::ExprRef one = ctx_.one();
+    ir::WhenClause w;
+    w.elements = {
+        initial,
+        up ? ctx_.compare(ir::CompareKind::Ge, x, ctx_.add(kv, one))
+           : ctx_.compare(ir::CompareKind::Gt, x, kv),
+        up ? ctx_.compare(ir::CompareKind::Lt, x, kv)
+           : ctx_.compare(ir::CompareKind::Le, x, ctx_.sub(kv, one))};
+    w.condition = ctx_.logicalOr(w.elements);
+    w.loc = m_.loc;
+    ir::Equation assign;
+    assign.residual = ctx_.sub(kv, n);
+    assign.loc = m_.loc;
+    assign.text = m_.variables[k].name + " = " + m_.variables[k].name;
+    w.equations.push_back(std::move(assign));
+    w.targets.push_back(kv);
+    clauses.push_back(std::move(w));
+    stepOf.set(n, kv);
+  }
+  if (clauses.empty())
+    return;
+  for (ir::Equation &e : m_.equations)
+    e.residual = stepOf.apply(e.residual);
+  for (ir::WhenClause &w : m_.whenClauses) {
+    for (ir::Equation &e : w.equations)
+      e.residual = stepOf.apply(e.residual);
+    for (ir::Reinit &r : w.reinits)
+      r.value = stepOf.apply(r.value);
+    w.condition = stepOf.apply(w.condition);
+    for (ir::ExprRef &c : w.elements)
+      c = stepOf.apply(c);
+  }
+  for (ir::Assert &a : m_.asserts)
+    a.condition = stepOf.apply(a.condition);
+  for (ir::WhenClause &w : clauses)
+    m_.whenClauses.push_back(std::move(w));
 }
 
 bool EventBuilder::partitionEquations() {
@@ -858,6 +946,7 @@ void EventBuilder::chooseMode() {
 
 bool EventBuilder::run() {
   discrete_ = ir::discreteVariables(m_);
+  stepFunctionEvents();
   bool anyRelation = false;
   for (const ir::Equation &e : m_.equations)
     for (ir::ExprRef n : ir::topologicalOrder(std::span(&e.residual, 1)))

@@ -97,7 +97,8 @@ bool buildOutputs(PassContext &pc, const AliasResult &alias,
     } else if (var.isDiscrete) {
       // A discrete variable is read from its slot of the discrete state.
       std::optional<ir::ParamId> p = m.findParameter(var.name);
-      if (var.input == ir::EventInput::None && p && m.parameters[*p].discrete)
+      if (var.input == ir::EventInput::None && !var.generated && p &&
+          m.parameters[*p].discrete)
         add(var.name, ctx.param(*p), ir::OutputKind::Discrete);
     } else if (mr.unknownIndex[v] >= 0) {
       ownValue[var.name] = outputs.size();
