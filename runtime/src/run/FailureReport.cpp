@@ -98,10 +98,10 @@ std::vector<int> dominantRows(const Eigen::VectorXd &u) {
 /// condition estimate says singular, a few steps of inverse iteration with
 /// J^T approximate the left singular vector of the smallest singular value.
 std::vector<int> singularRowsSparse(const ModelEval &ev,
-                                    const Integrator &ida, double t) {
+                                    const Integrator &integrator, double t) {
   CscMatrix J;
-  if (ev.jacobianCsc(ida.set(), t, ida.y(), ida.yp(), ida.iterationCj(), J) !=
-      0)
+  if (ev.jacobianCsc(integrator.set(), t, integrator.y(), integrator.yp(),
+                     integrator.iterationCj(), J) != 0)
     return {};
   CscMatrix Jt = J.transposed();
   SparseLu lu;
@@ -122,13 +122,15 @@ std::vector<int> singularRowsSparse(const ModelEval &ev,
 
 /// The rows a (near) singular iteration matrix singles out: the largest
 /// components of the left singular vector of its smallest singular value.
-std::vector<int> singularRows(const ModelEval &ev, const Integrator &ida,
+std::vector<int> singularRows(const ModelEval &ev, const Integrator &integrator,
                               double t) {
   if (usesSparseInit(ev))
-    return singularRowsSparse(ev, ida, t);
+    return singularRowsSparse(ev, integrator, t);
   Eigen::MatrixXd J;
-  double cj = ida.iterationCj();
-  if (ev.jacobian(ida.set(), t, ida.y(), ida.yp(), cj, J) != 0 || J.size() == 0)
+  double cj = integrator.iterationCj();
+  if (ev.jacobian(integrator.set(), t, integrator.y(), integrator.yp(), cj,
+                  J) != 0 ||
+      J.size() == 0)
     return {};
   Eigen::VectorXd u;
   if (!numeric::nearSingularLeftVector(J, 1e-10, u))
@@ -192,8 +194,8 @@ std::vector<int> unknownsRead(const ModelEval &ev, int set, int row) {
 /// list would hide the message.
 constexpr size_t kMaxValuesListed = 8;
 
-std::string worstVariables(const ModelEval &ev, const Integrator &ida) {
-  std::vector<double> err = ida.weightedErrors();
+std::string worstVariables(const ModelEval &ev, const Integrator &integrator) {
+  std::vector<double> err = integrator.weightedErrors();
   std::vector<int> order(err.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
@@ -204,7 +206,7 @@ std::string worstVariables(const ModelEval &ev, const Integrator &ida) {
       break;
     out += fmt::format("{}'{}' (weighted error {:.3g}, value {:.6g})",
                        i ? ", " : "", ev.varName(order[i]), err[order[i]],
-                       ida.y()[order[i]]);
+                       integrator.y()[order[i]]);
   }
   return out;
 }
@@ -326,27 +328,29 @@ std::string describeSolverError(double t, const std::string &what) {
                      t, what);
 }
 
-std::string describeFailure(const ModelEval &ev, const Integrator &ida,
+std::string describeFailure(const ModelEval &ev, const Integrator &integrator,
                             const StepStatus &status, double t) {
   FailureText text = failureText(status.failure);
   std::string msg = fmt::format("simulation failed at t = {:.10g}: {} ({})", t,
                                 text.what, status.code);
   // The solver's own words say most about a failure we have no name for.
-  if (status.failure == FailureKind::Other && !ida.solverMessage().empty())
-    msg += fmt::format("\n  the solver says: {}", ida.solverMessage());
-  std::string worst = worstVariables(ev, ida);
+  if (status.failure == FailureKind::Other &&
+      !integrator.solverMessage().empty())
+    msg += fmt::format("\n  the solver says: {}", integrator.solverMessage());
+  std::string worst = worstVariables(ev, integrator);
   if (!worst.empty())
     msg += "\n  largest local errors: " + worst;
   FailureKind k = status.failure;
   if ((k == FailureKind::Domain || k == FailureKind::Convergence ||
        k == FailureKind::StepCollapsed) &&
-      ida.lastDomainRow() >= 0)
-    msg += describeDomainRow(ev, ida.set(), ida.lastDomainRow(),
-                             ida.lastDomainY(), t, nullptr);
+      integrator.lastDomainRow() >= 0)
+    msg += describeDomainRow(ev, integrator.set(), integrator.lastDomainRow(),
+                             integrator.lastDomainY(), t, nullptr);
   else if (k == FailureKind::LinearSetup || k == FailureKind::Convergence ||
            k == FailureKind::LinearSolve)
-    for (int r : singularRows(ev, ida, t))
-      msg += describeDomainRow(ev, ida.set(), r, ida.y(), t, ida.yp());
+    for (int r : singularRows(ev, integrator, t))
+      msg += describeDomainRow(ev, integrator.set(), r, integrator.y(), t,
+                               integrator.yp());
   msg += fmt::format("\n  hint: {}", text.hint);
   // A system handed over as written whose index exceeds one (--method
   // raw) is the likeliest cause of any failure, whatever its symptom.
@@ -356,11 +360,13 @@ std::string describeFailure(const ModelEval &ev, const Integrator &ida,
   return msg;
 }
 
-std::string describeInitFailure(const ModelEval &ev, const Integrator &ida,
+std::string describeInitFailure(const ModelEval &ev,
+                                const Integrator &integrator,
                                 const StepStatus &status, double t) {
-  if (ida.lastDomainRow() >= 0)
-    return describeInitDomainError(ev, ida.set(), ida.lastDomainRow(),
-                                   ida.lastDomainY(), t);
+  if (integrator.lastDomainRow() >= 0)
+    return describeInitDomainError(ev, integrator.set(),
+                                   integrator.lastDomainRow(),
+                                   integrator.lastDomainY(), t);
   return fmt::format("initialization failed at t = {:.10g}: no consistent "
                      "initial point found ({})\n  hint: check the start "
                      "values",

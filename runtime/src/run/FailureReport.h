@@ -43,11 +43,12 @@ std::string describeOutputDomainError(const ModelEval &ev, int output,
 std::string describeSolverError(double t, const std::string &what);
 
 /// Describes a failed step (`status`) at time `t`.
-std::string describeFailure(const ModelEval &ev, const Integrator &ida,
+std::string describeFailure(const ModelEval &ev, const Integrator &integrator,
                             const StepStatus &status, double t);
 
 /// Describes a failed start completion (IDACalcIC) at the start time `t`.
-std::string describeInitFailure(const ModelEval &ev, const Integrator &ida,
+std::string describeInitFailure(const ModelEval &ev,
+                                const Integrator &integrator,
                                 const StepStatus &status, double t);
 
 } // namespace ldae::runtime

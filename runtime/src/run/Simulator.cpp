@@ -187,12 +187,14 @@ constexpr long kMaxStepsPerOutput = 100000;
 /// and gigabytes; it fails with a message instead.
 constexpr int kMaxDenseInitUnknowns = 10000;
 
-/// Hands a consistent point found by our own Newton iteration to IDA.
-bool adoptInitialPoint(const ModelEval &ev, Integrator &ida, int set, double t0,
-                       const std::vector<double> &y0, const InitOutcome &init,
-                       SimResult &res, std::ostream *log) {
+/// Hands a consistent point found by our own Newton iteration to the
+/// integrator.
+bool adoptInitialPoint(const ModelEval &ev, Integrator &integrator, int set,
+                       double t0, const std::vector<double> &y0,
+                       const InitOutcome &init, SimResult &res,
+                       std::ostream *log) {
   reportMoves(ev, y0, init.y.data(), log);
-  auto re = ida.reinit(set, t0, init.y.data(), init.yp.data());
+  auto re = integrator.reinit(set, t0, init.y.data(), init.yp.data());
   if (!re) {
     res.failure = describeSolverError(t0, re.error());
     return false;
@@ -212,16 +214,16 @@ std::string initFailure(const ModelEval &ev, int set, double t0,
 
 /// Finds the initial point from the start vector (y, yp) (IDA holds it);
 /// returns false (with the failure filled in) when there is none.
-bool initializeFrom(const ModelEval &ev, Integrator &ida, int set, double t0,
-                    double tNext, std::vector<double> y, std::vector<double> yp,
-                    SimResult &res, std::ostream *log) {
+bool initializeFrom(const ModelEval &ev, Integrator &integrator, int set,
+                    double t0, double tNext, std::vector<double> y,
+                    std::vector<double> yp, SimResult &res, std::ostream *log) {
   int n = ev.n();
   if (isPlainIndexOne(ev, set, t0, y.data(), yp.data())) {
-    if (ida.completeStart(tNext).ok()) {
+    if (integrator.completeStart(tNext).ok()) {
       if (log)
         *log << "initialization: index-1 structure; algebraic values and "
                 "derivatives solved from the differential start values\n";
-      reportMoves(ev, y, ida.y(), log);
+      reportMoves(ev, y, integrator.y(), log);
       return true;
     }
     if (usesSparseInit(ev)) {
@@ -237,13 +239,13 @@ bool initializeFrom(const ModelEval &ev, Integrator &ida, int set, double t0,
           *log << "initialization: IDACalcIC failed; index-1 Newton "
                   "iteration (sparse) solved the algebraic values and "
                   "derivatives\n";
-        return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
+        return adoptInitialPoint(ev, integrator, set, t0, y, init, res, log);
       }
     }
     if (log)
       *log << "initialization: IDACalcIC failed; trying Newton steps along "
               "the jump space\n";
-    auto re = ida.reinit(set, t0, y.data(), yp.data());
+    auto re = integrator.reinit(set, t0, y.data(), yp.data());
     if (!re) {
       res.failure = describeSolverError(t0, re.error());
       return false;
@@ -261,7 +263,7 @@ bool initializeFrom(const ModelEval &ev, Integrator &ida, int set, double t0,
             init.projected
                 ? fmt::format(" ({} in minimum-norm blocks)", init.projected)
                 : std::string());
-      return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
+      return adoptInitialPoint(ev, integrator, set, t0, y, init, res, log);
     }
     if (init.applicable) {
       res.failure = initFailure(ev, set, t0, init);
@@ -298,28 +300,29 @@ bool initializeFrom(const ModelEval &ev, Integrator &ida, int set, double t0,
                         "space T (dimension {}, index {}){}\n",
                         init.jumpDim, init.index,
                         init.nearestPoint ? "; nearest point used" : "");
-  return adoptInitialPoint(ev, ida, set, t0, y, init, res, log);
+  return adoptInitialPoint(ev, integrator, set, t0, y, init, res, log);
 }
 
 /// The re-initialization after an event by the jump rule (the state just
 /// before, reinit values written in, onto the consistent set of the current
 /// discrete values along T of the model as written, the reinit targets
 /// `held`), and the integrator restarted there. False with `failure`.
-bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
+bool restartAfterEvent(const ModelEval &ev, Integrator &integrator, double t,
                        std::vector<double> &y, std::vector<double> &yp,
                        const std::vector<int> &held, std::string &failure,
                        std::ostream *log) {
   // The moves are logged as the event's jump (EventLoop), not twice.
-  ida.nextReinitAfterEvent(held);
+  integrator.nextReinitAfterEvent(held);
   InitOutcome init =
-      reinitializeAfterEvent(ev, ida.set(), t, y, yp, held, nullptr);
+      reinitializeAfterEvent(ev, integrator.set(), t, y, yp, held, nullptr);
   if (!init.ok) {
-    failure = init.domainRow >= 0
-                  ? describeEventDomainError(ev, ida.set(), init.domainRow,
-                                             init.domainY.data(), t)
-                  : fmt::format("the re-initialization after the event at t "
-                                "= {:.10g} failed: {}",
-                                t, init.failure);
+    failure =
+        init.domainRow >= 0
+            ? describeEventDomainError(ev, integrator.set(), init.domainRow,
+                                       init.domainY.data(), t)
+            : fmt::format("the re-initialization after the event at t "
+                          "= {:.10g} failed: {}",
+                          t, init.failure);
     return false;
   }
   if (init.nearestPoint && log)
@@ -327,7 +330,8 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
                         "values leaves no step along the jump space; the "
                         "nearest consistent point is used\n",
                         t);
-  auto re = ida.reinit(ida.set(), t, init.y.data(), init.yp.data());
+  auto re =
+      integrator.reinit(integrator.set(), t, init.y.data(), init.yp.data());
   if (!re) {
     failure = describeSolverError(t, re.error());
     return false;
@@ -335,8 +339,8 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
   // The integrator's point: a projecting one (sga) moved it onto its
   // constraints after the rows were solved.
   const int n = ev.n();
-  y.assign(ida.y(), ida.y() + n);
-  yp.assign(ida.yp(), ida.yp() + n);
+  y.assign(integrator.y(), integrator.y() + n);
+  yp.assign(integrator.yp(), integrator.yp() + n);
   return true;
 }
 
@@ -344,8 +348,8 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &ida, double t,
 /// solved from the start values, to the actual one (lambda = 1), each
 /// initialization starting from the last; the step in lambda grows after a
 /// success and halves after a failure.
-bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set, double t0,
-                          double tNext, int lambda, SimResult &res,
+bool homotopyContinuation(ModelEval &ev, Integrator &integrator, int set,
+                          double t0, double tNext, int lambda, SimResult &res,
                           std::ostream *log) {
   const ldae_model &m = ev.model();
   int n = ev.n();
@@ -354,8 +358,9 @@ bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set, double t0,
   auto from = [&](double l) {
     ev.setParam(lambda, l);
     res.failure.clear();
-    auto re = ida.reinit(set, t0, y.data(), yp.data());
-    return re && initializeFrom(ev, ida, set, t0, tNext, y, yp, res, nullptr);
+    auto re = integrator.reinit(set, t0, y.data(), yp.data());
+    return re &&
+           initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, nullptr);
   };
   if (!from(0.0)) {
     ev.setParam(lambda, 1.0);
@@ -367,8 +372,8 @@ bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set, double t0,
   double l = 0, step = 0.1;
   int steps = 0;
   while (l < 1) {
-    y.assign(ida.y(), ida.y() + n);
-    yp.assign(ida.yp(), ida.yp() + n);
+    y.assign(integrator.y(), integrator.y() + n);
+    yp.assign(integrator.yp(), integrator.yp() + n);
     double next = std::min(1.0, l + step);
     if (from(next)) {
       l = next;
@@ -398,13 +403,13 @@ bool homotopyContinuation(ModelEval &ev, Integrator &ida, int set, double t0,
 /// Finds the initial point from the start values; where that fails and the
 /// model has homotopy(), continues from its simplified model. Returns false
 /// (with the failure filled in) when there is none.
-bool initialize(ModelEval &ev, Integrator &ida, int set, double t0,
+bool initialize(ModelEval &ev, Integrator &integrator, int set, double t0,
                 double tNext, SimResult &res, std::ostream *log) {
   const ldae_model &m = ev.model();
   int n = ev.n();
   std::vector<double> y(m.start_y, m.start_y + n),
       yp(m.start_yp, m.start_yp + n);
-  if (initializeFrom(ev, ida, set, t0, tNext, y, yp, res, log))
+  if (initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, log))
     return true;
   int lambda = ev.paramIndex("homotopy.lambda");
   if (lambda < 0 || ev.params()[lambda] != 1.0)
@@ -413,39 +418,40 @@ bool initialize(ModelEval &ev, Integrator &ida, int set, double t0,
   if (log)
     *log << "initialization: failed from the start values; trying the "
             "homotopy continuation\n";
-  if (homotopyContinuation(ev, ida, set, t0, tNext, lambda, res, log))
+  if (homotopyContinuation(ev, integrator, set, t0, tNext, lambda, res, log))
     return true;
   res.failure = direct + "\n  homotopy continuation: " + res.failure;
   return false;
 }
 
-/// Restarts IDA at the current point with state set `to`.
+/// Restarts the integrator at the current point with state set `to`.
 /// Restarts the integrator at (t, y, y') with state set `set` after a
 /// switch of states.
-bool restartWith(const ModelEval &ev, Integrator &ida, int set, double t,
+bool restartWith(const ModelEval &ev, Integrator &integrator, int set, double t,
                  double tNext, std::vector<double> &y, std::vector<double> &yp,
                  SimResult &res) {
-  auto re = ida.reinit(set, t, y.data(), yp.data());
+  auto re = integrator.reinit(set, t, y.data(), yp.data());
   if (!re) {
     res.failure = describeSolverError(t, re.error());
     return false;
   }
-  StepStatus started = ida.completeStart(tNext);
+  StepStatus started = integrator.completeStart(tNext);
   if (!started.ok()) {
-    res.failure = describeInitFailure(ev, ida, started, t) +
+    res.failure = describeInitFailure(ev, integrator, started, t) +
                   " (after switching states)";
     return false;
   }
   return true;
 }
 
-bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
+bool switchStates(const ModelEval &ev, Integrator &integrator, int to, double t,
                   double tNext, const std::vector<double> &cond, SimResult &res,
                   std::ostream *log) {
-  int from = ida.set();
+  int from = integrator.set();
   int n = ev.n();
-  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
-  if (!restartWith(ev, ida, to, t, tNext, y, yp, res))
+  std::vector<double> y(integrator.y(), integrator.y() + n),
+      yp(integrator.yp(), integrator.yp() + n);
+  if (!restartWith(ev, integrator, to, t, tNext, y, yp, res))
     return false;
   ++res.stats.stateSwitches;
   if (log) {
@@ -463,15 +469,16 @@ bool switchStates(const ModelEval &ev, Integrator &ida, int to, double t,
 /// Dynamic state selection of the large blocks (StateSelection.h): where a
 /// block's states switch, the integrator restarts from the same point with
 /// the new selection.
-bool reselectStates(ModelEval &ev, Integrator &ida, double t, double tNext,
-                    SimResult &res, std::ostream *log) {
+bool reselectStates(ModelEval &ev, Integrator &integrator, double t,
+                    double tNext, SimResult &res, std::ostream *log) {
   int n = ev.n();
-  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
+  std::vector<double> y(integrator.y(), integrator.y() + n),
+      yp(integrator.yp(), integrator.yp() + n);
   std::vector<DynamicSwitch> sw =
       reselectDynamicSets(ev, t, y.data(), yp.data());
   if (sw.empty())
     return true;
-  if (!restartWith(ev, ida, ida.set(), t, tNext, y, yp, res))
+  if (!restartWith(ev, integrator, integrator.set(), t, tNext, y, yp, res))
     return false;
   res.stats.stateSwitches += static_cast<int>(sw.size());
   for (const DynamicSwitch &d : sw)
@@ -497,10 +504,10 @@ struct Carry {
 /// reads its old value and the event would change nothing. Moves the event
 /// point (t, y, y') within the last step to the first time, doubling from
 /// a few ulps, at which every root found has the sign it crosses to.
-void pastTheRoots(const ModelEval &ev, Integrator &ida, double &t,
+void pastTheRoots(const ModelEval &ev, Integrator &integrator, double &t,
                   std::vector<double> &y, std::vector<double> &yp) {
   const ldae_model &m = ev.model();
-  std::vector<int> found = ida.rootsFound();
+  std::vector<int> found = integrator.rootsFound();
   std::vector<double> g(m.n_roots);
   auto crossed = [&](double at, const double *ya, const double *ypa) {
     if (m.roots(at, ya, ypa, ev.params(), g.data()) != 0)
@@ -515,16 +522,16 @@ void pastTheRoots(const ModelEval &ev, Integrator &ida, double &t,
   // their equations', not their interpolants (settleAlgebraic).
   const bool settle = m.n_mode > 0;
   if (settle)
-    settleAlgebraic(ev, ida.set(), t, y, yp);
+    settleAlgebraic(ev, integrator.set(), t, y, yp);
   if (crossed(t, y.data(), yp.data()))
     return;
-  double reach = ida.currentTime();
+  double reach = integrator.currentTime();
   std::vector<double> ya(y.size()), ypa(yp.size());
   for (double d = 4e-16 * std::max(1.0, std::fabs(t)); t + d <= reach; d *= 2) {
-    if (!ida.interpolate(t + d, ya.data(), ypa.data()))
+    if (!integrator.interpolate(t + d, ya.data(), ypa.data()))
       return;
     if (settle)
-      settleAlgebraic(ev, ida.set(), t + d, ya, ypa);
+      settleAlgebraic(ev, integrator.set(), t + d, ya, ypa);
     if (crossed(t + d, ya.data(), ypa.data())) {
       t += d;
       y = ya;
@@ -581,7 +588,7 @@ private:
   /// Going on without a restart from a root return at t: restarts the
   /// integrator there when a root function is exactly zero (see
   /// RootWatch::exactlyZero). False, with the failure, when it cannot.
-  bool restartOnZeroRoot(const ModelEval &ev, Integrator &ida,
+  bool restartOnZeroRoot(const ModelEval &ev, Integrator &integrator,
                          const RootWatch &watch, double t);
   void startFrom(ModelEval &ev, const Carry &carry, std::vector<double> &y,
                  std::vector<double> &yp) const;
@@ -595,13 +602,14 @@ private:
   long k_ = 1; // next output time (of the grid, also with --every-step)
 };
 
-bool Run::restartOnZeroRoot(const ModelEval &ev, Integrator &ida,
+bool Run::restartOnZeroRoot(const ModelEval &ev, Integrator &integrator,
                             const RootWatch &watch, double t) {
-  if (!watch.exactlyZero(t, ida.y(), ida.yp()))
+  if (!watch.exactlyZero(t, integrator.y(), integrator.yp()))
     return true;
   int n = ev.n();
-  std::vector<double> y(ida.y(), ida.y() + n), yp(ida.yp(), ida.yp() + n);
-  auto re = ida.reinit(ida.set(), t, y.data(), yp.data());
+  std::vector<double> y(integrator.y(), integrator.y() + n),
+      yp(integrator.yp(), integrator.yp() + n);
+  auto re = integrator.reinit(integrator.set(), t, y.data(), yp.data());
   if (!re)
     res_.failure = describeSolverError(t, re.error());
   return bool(re);
@@ -769,11 +777,11 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
                                made.error());
     return StageEnd::Done;
   }
-  Integrator &ida = **made;
+  Integrator &integrator = **made;
   auto done = [&](StageEnd end) -> Expected<StageEnd> {
-    ida.addCounters(res_.stats);
-    res_.stats.sparse = ida.sparse();
-    res_.stats.integrator = ida.name();
+    integrator.addCounters(res_.stats);
+    res_.stats.sparse = integrator.sparse();
+    res_.stats.integrator = integrator.name();
     res_.stats.events += events.events();
     res_.stats.timeEvents += events.timeEvents();
     res_.stats.jumps += events.jumps();
@@ -783,9 +791,10 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   // The variables computed outside the integrator are error-tested with
   // the algebraic unknowns (docs/runtime.md, "The error test").
   if (weighsComputed)
-    ida.weighErrors(&weights);
-  auto ok = ida.init(set, t, y.data(), yp.data(), s_.rtol, weights.atol(),
-                     span > 0 ? s_.stop : s_.start + 1e-6, errorTestAlgebraic);
+    integrator.weighErrors(&weights);
+  auto ok =
+      integrator.init(set, t, y.data(), yp.data(), s_.rtol, weights.atol(),
+                      span > 0 ? s_.stop : s_.start + 1e-6, errorTestAlgebraic);
   if (!ok) {
     // The options were fine; a SUNDIALS call failing from here on is a
     // numerical failure of this run (status 3), never a command-line error.
@@ -795,25 +804,27 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   auto init0 = std::chrono::steady_clock::now();
   bool initialized = true;
   if (fromStart) {
-    initialized = initialize(ev, ida, set, t, firstOutput(t), res_, o_.log);
+    initialized =
+        initialize(ev, integrator, set, t, firstOutput(t), res_, o_.log);
   } else {
     // The new mode's model from the point carried over: the jump rule,
     // nothing held (the old model's fixed start values are no conditions
     // here).
     std::vector<double> y0 = y, yp0 = yp;
     initialized =
-        restartAfterEvent(ev, ida, t, y0, yp0, {}, res_.failure, o_.log);
+        restartAfterEvent(ev, integrator, t, y0, yp0, {}, res_.failure, o_.log);
   }
   res_.stats.initTime +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - init0)
           .count();
   if (!initialized)
     return done(StageEnd::Done);
-  events.setStateSet(ida.set());
+  events.setStateSet(integrator.set());
   if (!fromStart)
-    events.noteJump(t, y, std::vector<double>(ida.y(), ida.y() + n));
-  y.assign(ida.y(), ida.y() + n);
-  yp.assign(ida.yp(), ida.yp() + n);
+    events.noteJump(t, y,
+                    std::vector<double>(integrator.y(), integrator.y() + n));
+  y.assign(integrator.y(), integrator.y() + n);
+  yp.assign(integrator.yp(), integrator.yp() + n);
 
   // The re-initialization after an event: the held point made consistent
   // with the new discrete values by the start's rule, the integrator
@@ -821,7 +832,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   Reinitialize reinit =
       [&](double te, std::vector<double> &ye, std::vector<double> &ype,
           const std::vector<int> &held, std::string &failure) {
-        return restartAfterEvent(ev, ida, te, ye, ype, held, failure, o_.log);
+        return restartAfterEvent(ev, integrator, te, ye, ype, held, failure,
+                                 o_.log);
       };
   // The rows and the end of the run after an event; nothing when the run
   // goes on.
@@ -881,18 +893,20 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
           return reinit(te, ye, ype, held, failure);
         std::vector<double> y0(m.start_y, m.start_y + n),
             yp0(m.start_yp, m.start_yp + n);
-        if (auto re = ida.reinit(ida.set(), te, y0.data(), yp0.data()); !re) {
+        if (auto re =
+                integrator.reinit(integrator.set(), te, y0.data(), yp0.data());
+            !re) {
           failure = describeSolverError(te, re.error());
           return false;
         }
         SimResult again;
-        if (!initializeFrom(ev, ida, ida.set(), te, firstOutput(te), y0, yp0,
-                            again, o_.log)) {
+        if (!initializeFrom(ev, integrator, integrator.set(), te,
+                            firstOutput(te), y0, yp0, again, o_.log)) {
           failure = again.failure;
           return false;
         }
-        ye.assign(ida.y(), ida.y() + n);
-        ype.assign(ida.yp(), ida.yp() + n);
+        ye.assign(integrator.y(), integrator.y() + n);
+        ype.assign(integrator.yp(), integrator.yp() + n);
         return true;
       };
   // IDA predicts its first step from y': an algebraic unknown that changes
@@ -902,8 +916,9 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   // 1/rtol). Its y' is the difference quotient of the point just ahead.
   // (An ODE's, CVODE's, unknowns are all differential: nothing to do.)
   if (fromStart && errorTestAlgebraic && span > 0 &&
-      algebraicDerivatives(ev, ida.set(), t, y, yp)) {
-    if (auto re = ida.reinit(ida.set(), t, y.data(), yp.data()); !re) {
+      algebraicDerivatives(ev, integrator.set(), t, y, yp)) {
+    if (auto re = integrator.reinit(integrator.set(), t, y.data(), yp.data());
+        !re) {
       res_.failure = describeSolverError(t, re.error());
       return done(StageEnd::Done);
     }
@@ -934,13 +949,13 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   // Jacobian refreshes (docs/runtime.md).
   double nextEvent = 0; // the time event the integrator stops at (or later)
   auto aimAtNextEvent = [&]() {
-    nextEvent = events.nextTimeEvent(t, ida.y(), ida.yp());
+    nextEvent = events.nextTimeEvent(t, integrator.y(), integrator.yp());
     double aim = std::min(s_.stop, nextEvent);
     // A relation whose root function is zero here changes just after t,
     // unseen by the root finder: stop there to see it (RootWatch.h).
     if (events.handlesRoots())
       aim = std::min(aim, watch.stopAheadOfZero(t));
-    auto ok = ida.setStopTime(aim);
+    auto ok = integrator.setStopTime(aim);
     if (!ok)
       res_.failure = describeSolverError(t, ok.error());
     return bool(ok);
@@ -951,7 +966,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   // output interval, so that one crossing and crossing back within it
   // (sin(2 pi t) > 0.5 for a third of each period) is seen.
   if (events.handlesRoots() && m.n_roots > 0)
-    if (auto capped = ida.setMaxStep(s_.interval); !capped) {
+    if (auto capped = integrator.setMaxStep(s_.interval); !capped) {
       res_.failure = describeSolverError(t, capped.error());
       return done(StageEnd::Done);
     }
@@ -973,7 +988,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
           return false;
         continue;
       }
-      auto at = ida.interpolate(tk, yAt.data(), ypAt.data());
+      auto at = integrator.interpolate(tk, yAt.data(), ypAt.data());
       if (!at) {
         res_.failure = describeSolverError(tk, at.error());
         return false;
@@ -985,15 +1000,15 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       // one as written (--method raw) the states alone do not determine
       // the algebraic unknowns, and the solve would fail at every row.
       if (!errorTestAlgebraic && m.algebraic_error_test != 0)
-        settleAlgebraic(ev, ida.set(), tk, yAt, ypAt);
+        settleAlgebraic(ev, integrator.set(), tk, yAt, ypAt);
       if (!rec.record(tk, yAt.data(), ypAt.data()))
         return false;
     }
     return true;
   };
   while (true) {
-    StepStatus st = ida.step(t);
-    if (st.ok() && ida.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
+    StepStatus st = integrator.step(t);
+    if (st.ok() && integrator.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
       ++tinySteps;
     else
       tinySteps = 0;
@@ -1005,11 +1020,13 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
           fmt::format("more than {} steps between output times",
                       kMaxStepsPerOutput));
     if (!st.ok()) {
-      res_.failure = describeFailure(ev, ida, st, ida.currentTime());
+      res_.failure =
+          describeFailure(ev, integrator, st, integrator.currentTime());
       return done(StageEnd::Done);
     }
-    bool recorded = (!o_.everyStep || rec.record(t, ida.y(), ida.yp())) &&
-                    recordGridUpTo(t, ida.y(), ida.yp());
+    bool recorded =
+        (!o_.everyStep || rec.record(t, integrator.y(), integrator.yp())) &&
+        recordGridUpTo(t, integrator.y(), integrator.yp());
     if (!recorded)
       return done(StageEnd::Done);
     // With --every-step each step is an output: the limit on steps between
@@ -1020,14 +1037,14 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     bool timeEvent = st.kind == StepStatus::StopReached && t >= nextEvent;
     bool rootEvent = st.kind == StepStatus::Root && events.handlesRoots();
     bool forced = false; // a crossing ignored as round-off was real
-    if (rootEvent && watch.withinRoundOff(ida.rootsFound())) {
+    if (rootEvent && watch.withinRoundOff(integrator.rootsFound())) {
       rootEvent = false;
-      if (!restartOnZeroRoot(ev, ida, watch, t))
+      if (!restartOnZeroRoot(ev, integrator, watch, t))
         return done(StageEnd::Done);
     } else if (!rootEvent && events.handlesRoots())
-      forced = watch.stepped(t, ida.y(), ida.yp());
+      forced = watch.stepped(t, integrator.y(), integrator.yp());
     if (st.kind == StepStatus::Root && !events.handlesRoots() && o_.log) {
-      std::vector<int> found = ida.rootsFound();
+      std::vector<int> found = integrator.rootsFound();
       for (size_t r = 0; r < found.size(); ++r)
         if (found[r])
           *o_.log << fmt::format("t = {:.10g}: event condition {} crossed "
@@ -1037,11 +1054,11 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     if (timeEvent || rootEvent || forced) {
       // The row just before the event (unless a grid row is at t), kept
       // only when the event changes something.
-      y.assign(ida.y(), ida.y() + n);
-      yp.assign(ida.yp(), ida.yp() + n);
+      y.assign(integrator.y(), integrator.y() + n);
+      yp.assign(integrator.yp(), integrator.yp() + n);
       double tRoot = t;
       if (rootEvent) {
-        pastTheRoots(ev, ida, t, y, yp);
+        pastTheRoots(ev, integrator, t, y, yp);
         // A grid time the move stepped over (a sine source's zero at an
         // output time) still belongs to the old mode, and the integrator
         // restarted at t could not reach back to it.
@@ -1056,7 +1073,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       EventOutcome out = events.handle(t, y, yp, timeEvent, reinit);
       if (out == EventOutcome::Handled && rootEvent &&
           events.jumps() == jumpsBefore)
-        if (int j = watch.sliding(t, ida.rootsFound(), kChatterEvents,
+        if (int j = watch.sliding(t, integrator.rootsFound(), kChatterEvents,
                                   s_.interval);
             j >= 0) {
           res_.failure = slidingMessage(ev, j, t, watch.slidingSince(j));
@@ -1065,7 +1082,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       if (out == EventOutcome::Unchanged) {
         rows_.truncate(rows);
         t = tRoot; // the integrator goes on from where it stopped
-        if (!restartOnZeroRoot(ev, ida, watch, t))
+        if (!restartOnZeroRoot(ev, integrator, watch, t))
           return done(StageEnd::Done);
       } else if (out == EventOutcome::Restarted) {
         rows_.truncate(rows);
@@ -1090,17 +1107,17 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     if (t >= s_.stop)
       break;
     if (m.n_state_sets > 1) {
-      cond = pivotConditions(ev, t, ida.y(), ida.yp());
-      int best = chooseStateSet(cond, ida.set());
-      if (best != ida.set() &&
-          !switchStates(ev, ida, best, t, std::min(s_.stop, t + s_.interval),
-                        cond, res_, o_.log))
+      cond = pivotConditions(ev, t, integrator.y(), integrator.yp());
+      int best = chooseStateSet(cond, integrator.set());
+      if (best != integrator.set() &&
+          !switchStates(ev, integrator, best, t,
+                        std::min(s_.stop, t + s_.interval), cond, res_, o_.log))
         return done(StageEnd::Done);
-      events.setStateSet(ida.set());
+      events.setStateSet(integrator.set());
     }
     if (m.n_dynamic_sets > 0 &&
-        !reselectStates(ev, ida, t, std::min(s_.stop, t + s_.interval), res_,
-                        o_.log))
+        !reselectStates(ev, integrator, t, std::min(s_.stop, t + s_.interval),
+                        res_, o_.log))
       return done(StageEnd::Done);
     if (interrupted(t))
       return done(StageEnd::Done);
@@ -1108,7 +1125,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   }
   // The last row is the stop time's; then the terminal event.
   if (rows_.lastTime() < s_.stop) {
-    auto at = ida.interpolate(s_.stop, yAt.data(), ypAt.data());
+    auto at = integrator.interpolate(s_.stop, yAt.data(), ypAt.data());
     if (!at) {
       res_.failure = describeSolverError(s_.stop, at.error());
       return done(StageEnd::Done);
@@ -1116,8 +1133,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     if (!rec.record(s_.stop, yAt.data(), ypAt.data()))
       return done(StageEnd::Done);
   }
-  if (events.terminal(t, ida.y(), ida.yp()))
-    rec.record(t, ida.y(), ida.yp());
+  if (events.terminal(t, integrator.y(), integrator.yp()))
+    rec.record(t, integrator.y(), integrator.yp());
   progress_.finish();
   return done(StageEnd::Done);
 }
