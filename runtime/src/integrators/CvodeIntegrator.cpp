@@ -5,10 +5,10 @@
 #include "integrators/CvodeIntegrator.h"
 #include "integrators/ConstraintProjection.h"
 #include "integrators/ImplicitOde.h"
-#include "init/JumpRule.h"
+#include "integrators/SgaProjectionPolicy.h"
+#include "integrators/StiffnessDetector.h"
 #include "integrators/SundialsSupport.h"
 
-#include <Eigen/Eigenvalues>
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
@@ -185,46 +185,6 @@ StepStatus failure(int flag) {
   }
 }
 
-/// CVODE 6.4 projects only BDF steps. Adams (sga) integrates instead the
-/// stabilized field f(y) - gamma D (Jc D)^+ c(y), equal to f on P_f, whose
-/// drift decays at the rate gamma instead of growing (the pendulum's grows
-/// like t^3 through the lambda' row): gamma = kStabilization times
-/// ||df/dy||_inf at the start (capped: kRateCap), a bound on the rates of
-/// the linearization.
-/// Larger makes Adams' steps stability-bound at loose tolerances (at 4 x
-/// this, the pendulum took more steps at rtol 1e-6 than at 1e-10).
-constexpr double kStabilization = 0.5;
-/// The norm bounds the rates only in units that are commensurate; it is
-/// capped at this many times the spectral radius, which no choice of
-/// units changes. Andrews' squeezer's norm, 4e10, is d v'/d m11 (v' =
-/// M^-1 (f - G^T lambda) against an inertia entry of 1e-6), not a rate
-/// (its spectral radius at the start is 466): gamma = 2e10 held Adams at
-/// 4e-11 s steps (100,000 of them before t = 4e-6).
-/// The radius is the largest seen, at the start and at every stiffness
-/// check (kStiffnessCheckEvery steps) after it: at rest it says little of
-/// the motion (the pendulum released near horizontal, theta0 = 1.56, has
-/// a small one, and gamma capped by it was 3.1e-5 off at rtol 1e-9
-/// instead of 7e-6). Raising gamma during the run changes the field only
-/// off P_f, by the drift (1e-14) times the change. It costs Andrews
-/// steps (1780, 1648, 2386 at rtol 1e-6, 1e-8, 1e-10 against 641, 880,
-/// 1806 on the start's radius), not accuracy (q 1.9e-7 and 1.7e-11 off
-/// its reference at 1e-8 and 1e-10); 6 x the largest radius took 440,
-/// 760, 1740 steps but was 4.9e-7 and 3.0e-9 off, and moved the
-/// pendulum's gamma below the norm's 16 (its error erratic in gamma:
-/// docs/runtime.md).
-constexpr double kRateCap = 40;
-/// And it restarts from the projected point when the drift's correction
-/// exceeds this many local error tolerances (WRMS norm in CVODE's error
-/// weights): a restart resets Adams' order and costs accuracy (with 684
-/// restarts in 100 s the pendulum was 1.7e-6 off at rtol 1e-10, 1e-7 with
-/// the stabilization and none), so only as a safety net.
-constexpr double kAdamsDriftRestart = 10.0;
-/// How often Adams looks at df/dy's spectrum (for stiffness under
-/// `--integrator auto`, and for the stabilization's radius), and the
-/// largest model whose spectrum it computes.
-constexpr long kStiffnessCheckEvery = 25;
-constexpr int kStiffnessCheckMaxN = 200;
-
 } // namespace
 
 struct CvodeIntegrator::Impl {
@@ -245,14 +205,11 @@ struct CvodeIntegrator::Impl {
   double t = 0;
   Callbacks cb;
   std::unique_ptr<ImplicitOde> implicit;
-  std::unique_ptr<ConstraintProjection> projection;
+  std::unique_ptr<SgaProjectionPolicy> sga;
   std::vector<double> pendingRestart; // the projected point to restart at
   double pendingT = 0;
   bool pendingSwitch = false; // Adams to BDF at the next step
-  long stepsSinceCheck = 0;
-  /// The stabilization rate's bounds (kRateCap): ||df/dy|| at the start
-  /// and the largest spectral radius seen.
-  double rateNorm = 0, radiusMax = 0;
+  StiffnessDetector stiffness;
 
   void freeSolver() {
     if (mem)
@@ -291,12 +248,12 @@ CvodeIntegrator::CvodeIntegrator(const ModelEval &ev, Lmm lmm)
   if (m.n_ode == m.n && m.n > 0) {
     impl_->implicit = std::make_unique<ImplicitOde>(ev);
     impl_->cb.implicit = impl_->implicit.get();
-    impl_->projection = std::make_unique<ConstraintProjection>(ev);
-    impl_->cb.projection = impl_->projection.get();
-    project_ = m.project_constraints != 0 && impl_->projection->active();
+    impl_->sga = std::make_unique<SgaProjectionPolicy>(ev);
+    impl_->cb.projection = &impl_->sga->projection();
+    project_ = m.project_constraints != 0 && impl_->sga->active();
   }
   // Above this size the spectrum costs more than it can save: BDF.
-  if (autoChoice_ && ev.n() > kStiffnessCheckMaxN) {
+  if (autoChoice_ && !StiffnessDetector::affordable(ev.n())) {
     adams_ = false;
     autoChoice_ = false;
   }
@@ -420,7 +377,7 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
   if (set != shared_.set)
     return Error{"internal error: CVODE runs a model with one state set"};
   impl_->pendingRestart.clear();
-  if (!impl_->projection || !impl_->projection->active())
+  if (!impl_->sga || !impl_->sga->active())
     return restartAt(t, y);
   // After an event, seed 002's rule: the point jumps onto the constraints
   // of the mode it entered along T(E, F) of the model as written (two
@@ -434,9 +391,10 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
     stepped_ = true; // the run goes on: its fixed start values are free
     // Where holding the reinit targets leaves no step along T: the
     // nearest point with them held (the dd rule); else the start's rule.
-    if (!jumpOntoConstraints(t, on.data(), yp, heldAfterEvent_) &&
+    if (!impl_->sga->jumpOntoConstraints(t, on.data(), yp, heldAfterEvent_,
+                                         field()) &&
         !heldAfterEvent_.empty())
-      impl_->projection->projectHolding(t, on.data(), heldAfterEvent_);
+      impl_->sga->projection().projectHolding(t, on.data(), heldAfterEvent_);
   }
   // A point handed over from outside (the initialization's own Newton
   // iteration, an event's re-initialization) need only solve the rows: it
@@ -449,77 +407,34 @@ Expected<bool> CvodeIntegrator::reinit(int set, double t, const double *y,
   return restartAt(t, on.data());
 }
 
-std::vector<int> CvodeIntegrator::fixedUnknowns() const {
-  std::vector<int> fixed;
-  const int *f = ev_.model().fixed;
-  for (int i = 0; f && i < ev_.n(); ++i)
-    if (f[i])
-      fixed.push_back(i);
-  return fixed;
-}
-
-bool CvodeIntegrator::jumpOntoConstraints(double t, double *y,
-                                          const double *yp,
-                                          const std::vector<int> &held) {
-  const int n = ev_.n();
-  if (ev_.model().n_written <= 0)
-    return false;
-  // The pencil's F reads y' through E(y) y' terms: the field's value at
-  // the point where the caller has none (the start).
-  std::vector<double> f(n, 0.0);
-  if (!yp) {
-    if (evalRhs(impl_->cb, t, y, f.data()) != 0)
-      std::fill(f.begin(), f.end(), 0.0);
-    yp = f.data();
-  }
-  const Eigen::MatrixXd T = writtenJumpBasis(ev_, t, y, yp, held);
-  if (T.cols() == 0)
-    return false;
-  std::vector<double> along(y, y + n);
-  if (impl_->projection->projectAlong(t, along.data(), T) != 0)
-    return false;
-  std::copy(along.begin(), along.end(), y);
-  return true;
+SgaProjectionPolicy::Field CvodeIntegrator::field() {
+  return [this](double t, const double *y, double *f) {
+    return evalRhs(impl_->cb, t, y, f);
+  };
 }
 
 StepStatus CvodeIntegrator::startOnConstraints(double t, double *y) {
   Impl &I = *impl_;
   // Fixed start values are conditions and stay (at the start only).
-  int rc = I.projection->projectStart(t, y, !stepped_);
+  int rc = I.sga->projection().projectStart(t, y, !stepped_);
   if (rc != 0) {
     if (rc != ConstraintProjection::kNoConvergence && rc > 0)
       callbackStatus(shared_, rc, y);
     return StepStatus::failed(FailureKind::NoStart,
                               "projection onto the constraints");
   }
-  if (project_ && adams_) {
-    // The drift of an Adams run decays at this rate instead of growing
-    // (see kStabilization).
-    Eigen::MatrixXd J;
-    Eigen::VectorXcd lambda;
-    if (linearization(t, y, J, lambda)) {
-      I.rateNorm = J.cwiseAbs().rowwise().sum().maxCoeff();
-      I.radiusMax = 0;
-      raiseStabilization(lambda);
-    }
-  }
+  if (project_ && adams_ && I.sga->stabilizeAt(*I.implicit, t, y))
+    I.cb.stabilize = I.sga->stabilization();
   return {};
-}
-
-void CvodeIntegrator::raiseStabilization(const Eigen::VectorXcd &lambda) {
-  Impl &I = *impl_;
-  if (lambda.size() > 0)
-    I.radiusMax = std::max(I.radiusMax, lambda.cwiseAbs().maxCoeff());
-  I.cb.stabilize =
-      kStabilization * std::min(I.rateNorm, kRateCap * I.radiusMax);
 }
 
 StepStatus CvodeIntegrator::completeStart(double) {
   Impl &I = *impl_;
   double *y = N_VGetArrayPointer(I.y);
-  if (I.projection && I.projection->active()) {
+  if (I.sga && I.sga->active()) {
     if (!stepped_)
-      jumpOntoConstraints(I.t, y, nullptr, fixedUnknowns());
+      I.sga->jumpOntoConstraints(I.t, y, nullptr, I.sga->fixedUnknowns(),
+                                 field());
     if (StepStatus st = startOnConstraints(I.t, y); !st.ok())
       return st;
     if (auto re = restartAt(I.t, y); !re)
@@ -553,45 +468,20 @@ Expected<bool> CvodeIntegrator::setStopTime(double tstop) {
   return true;
 }
 
-bool CvodeIntegrator::linearization(double t, const double *y,
-                                    Eigen::MatrixXd &J,
-                                    Eigen::VectorXcd &lambda) {
-  Impl &I = *impl_;
-  int n = ev_.n();
-  std::vector<double> f(n);
-  J.resize(n, n);
-  if (I.implicit->rhs(t, y, f.data()) != 0 ||
-      I.implicit->jacobian(t, y, f.data(), J.data()) != 0)
-    return false;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(J, false);
-  if (es.info() != Eigen::Success)
-    return false;
-  lambda = es.eigenvalues();
-  return true;
-}
-
 bool CvodeIntegrator::inspectSpectrum() {
   Impl &I = *impl_;
   Eigen::MatrixXd J;
   Eigen::VectorXcd lambda;
-  if (ev_.n() > kStiffnessCheckMaxN ||
-      !linearization(I.t, N_VGetArrayPointer(I.y), J, lambda))
+  if (!StiffnessDetector::affordable(ev_.n()) ||
+      !I.implicit->linearization(I.t, N_VGetArrayPointer(I.y), J, lambda))
     return false;
-  if (project_ && I.cb.stabilize > 0)
-    raiseStabilization(lambda);
+  if (project_ && I.cb.stabilize > 0) {
+    I.sga->raiseStabilization(lambda);
+    I.cb.stabilize = I.sga->stabilization();
+  }
   if (!autoChoice_)
     return false;
-  // Stiff: Adams' step is held near its stability (and fixed-point
-  // convergence) bound h |lambda| ~ 0.1-1 by a decaying mode, and the rest
-  // of the run spans many of that mode's time constants. The bound is on
-  // |lambda|, not on the decay rate: a lightly damped mode that rings out
-  // (lambda = -50 +- 1000i) holds Adams at h ~ 1e-3 as firmly as a real
-  // one at -1000. An undamped one never decays: it stays Adams' to follow.
-  double h = lastStep(), rest = I.tstop - I.t;
-  for (Eigen::Index i = 0; i < lambda.size(); ++i)
-    if (std::abs(lambda[i]) * h >= 0.1 && -lambda[i].real() * rest >= 1e3)
-      return true;
-  return false;
+  return StiffnessDetector::looksStiff(lambda, lastStep(), I.tstop - I.t);
 }
 
 Expected<bool> CvodeIntegrator::switchToBdf() {
@@ -602,43 +492,32 @@ Expected<bool> CvodeIntegrator::switchToBdf() {
   switched_ = true;
   updateName();
   if (project_)
-    I.projection->project(I.t, N_VGetArrayPointer(I.y), false);
+    I.sga->projection().project(I.t, N_VGetArrayPointer(I.y), false);
   return create(I.t);
 }
 
 StepStatus CvodeIntegrator::afterAdamsStep(double t) {
   Impl &I = *impl_;
   if (project_) {
-    // CVODE projects BDF steps only: Adams restarts from the projected
-    // point once the drift's correction (one Gauss-Newton step: its size
-    // is all that matters here) exceeds kAdamsDriftRestart tolerances.
-    int n = ev_.n();
-    std::vector<double> dy(n);
-    const double *y = N_VGetArrayPointer(I.y);
-    if (I.projection->correction(t, y, dy.data()) != 0 ||
-        CVodeGetErrWeights(I.mem, I.tmp) < 0)
+    std::vector<double> restart;
+    auto weights = [&]() -> const double * {
+      return CVodeGetErrWeights(I.mem, I.tmp) < 0 ? nullptr
+                                                  : N_VGetArrayPointer(I.tmp);
+    };
+    switch (I.sga->checkDrift(t, N_VGetArrayPointer(I.y), weights, restart)) {
+    case SgaProjectionPolicy::Drift::Failed:
       return StepStatus::failed(FailureKind::Convergence,
                                 "projection onto the constraints");
-    const double *w = N_VGetArrayPointer(I.tmp);
-    double sum = 0;
-    for (int i = 0; i < n; ++i)
-      sum += (dy[i] * w[i]) * (dy[i] * w[i]);
-    if (std::sqrt(sum / n) > kAdamsDriftRestart) {
-      // Restarted at the next step: output times within this one are
-      // still interpolated from its polynomial.
-      std::vector<double> yq(y, y + n);
-      if (I.projection->project(t, yq.data(), false) != 0)
-        return StepStatus::failed(FailureKind::Convergence,
-                                  "projection onto the constraints");
-      I.pendingRestart = std::move(yq);
+    case SgaProjectionPolicy::Drift::Restart:
+      I.pendingRestart = std::move(restart);
       I.pendingT = t;
+      break;
+    case SgaProjectionPolicy::Drift::Within:
+      break;
     }
   }
-  if ((autoChoice_ || project_) &&
-      ++I.stepsSinceCheck >= kStiffnessCheckEvery) {
-    I.stepsSinceCheck = 0;
+  if ((autoChoice_ || project_) && I.stiffness.due())
     I.pendingSwitch = inspectSpectrum(); // at the next step, as a restart
-  }
   return {};
 }
 
@@ -707,7 +586,7 @@ Expected<bool> CvodeIntegrator::interpolate(double t, double *y, double *yp) {
   std::copy(src, src + ev_.n(), y);
   // The interpolating polynomial meets the constraints only to its own
   // error: rows of the geometric method are projected as the steps are.
-  if (project_ && I.projection->project(t, y, false) != 0)
+  if (project_ && I.sga->projection().project(t, y, false) != 0)
     return Error{fmt::format("the interpolated point at the output time "
                              "{:.10g} cannot be projected onto the "
                              "constraints",
@@ -728,7 +607,7 @@ const double *CvodeIntegrator::y() const {
     return y; // BDF's steps are projected by CVODE itself
   if (!I.yOnValid) {
     std::copy(y, y + ev_.n(), I.yOn.begin());
-    if (I.projection->project(I.t, I.yOn.data(), false) != 0)
+    if (I.sga->projection().project(I.t, I.yOn.data(), false) != 0)
       std::copy(y, y + ev_.n(), I.yOn.begin());
     I.yOnValid = true;
   }
@@ -766,8 +645,8 @@ void CvodeIntegrator::addCounters(SimStats &st) const {
   st.errorTestFailures += netf + saved_.errorTestFailures;
   st.convergenceFailures += ncfn + saved_.convergenceFailures;
   st.rootsFound += impl_->rootCount + saved_.rootsFound;
-  if (impl_->projection)
-    st.projections += impl_->projection->count(); // all restarts
+  if (impl_->sga)
+    st.projections += impl_->sga->projection().count(); // all restarts
 }
 
 std::vector<int> CvodeIntegrator::rootsFound() const {

@@ -11,11 +11,14 @@
 // restart from the projected point once the drift exceeds the tolerance)
 // and every output row. `Auto` starts with Adams and moves to BDF when a
 // decaying mode holds Adams' step at its stability bound.
+//
+// This class is the CVODE wrapper: when it projects and restarts. Where the
+// point goes and the Adams stabilization are SgaProjectionPolicy's; when
+// Adams is stiff, StiffnessDetector's.
 #pragma once
 
 #include "integrators/Integrator.h"
-
-#include <Eigen/Dense>
+#include "integrators/SgaProjectionPolicy.h"
 
 namespace ldae::runtime {
 
@@ -55,18 +58,10 @@ private:
   Expected<bool> create(double t0);
   Expected<bool> setupSolver();
   Expected<bool> restartAt(double t, const double *y);
+  /// The field CVODE integrates (the stabilized one under Adams).
+  SgaProjectionPolicy::Field field();
   /// y onto the constraints by the start's rule (fixed start values held
   /// before the first step), and the Adams stabilization rate there.
-  /// Seed 002's rule on the model as written (ldae_model::written_*): y
-  /// moves along T(E, F) at (t, y, y') onto every constraint; the unknowns
-  /// `held` keep their values (the fixed start values at the start, the
-  /// reinit targets after an event); y' null: the field's. False,
-  /// y untouched, without the pencil or where the constraints cannot be
-  /// met along T (the nearest point then decides).
-  /// The unknowns with a fixed start value.
-  std::vector<int> fixedUnknowns() const;
-  bool jumpOntoConstraints(double t, double *y, const double *yp,
-                           const std::vector<int> &held);
   StepStatus startOnConstraints(double t, double *y);
   void saveCounters();
   void updateName();
@@ -77,11 +72,6 @@ private:
   /// stabilization rate to the radius seen there, and returns whether the
   /// field looks stiff (under `auto`; false otherwise).
   bool inspectSpectrum();
-  /// gamma from the start's norm and the largest radius seen (kRateCap).
-  void raiseStabilization(const Eigen::VectorXcd &lambda);
-  /// df/dy at (t, y) and its eigenvalues (false: not computed).
-  bool linearization(double t, const double *y, Eigen::MatrixXd &J,
-                     Eigen::VectorXcd &lambda);
   Expected<bool> switchToBdf();
 
   struct Impl;

@@ -1,6 +1,8 @@
 // f and df/dy of a linearly implicit model (see ImplicitOde.h).
 #include "integrators/ImplicitOde.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -90,6 +92,19 @@ int ImplicitOde::jacobian(double t, const double *y, const double *f,
   Eigen::Map<Eigen::MatrixXd>(J, n_, n_) =
       colScale_.asDiagonal() * lu_.solve(rowScale_.asDiagonal() * -J0_);
   return 0;
+}
+
+bool ImplicitOde::linearization(double t, const double *y, Eigen::MatrixXd &J,
+                                Eigen::VectorXcd &lambda) {
+  std::vector<double> f(n_);
+  J.resize(n_, n_);
+  if (rhs(t, y, f.data()) != 0 || jacobian(t, y, f.data(), J.data()) != 0)
+    return false;
+  Eigen::EigenSolver<Eigen::MatrixXd> es(J, false);
+  if (es.info() != Eigen::Success)
+    return false;
+  lambda = es.eigenvalues();
+  return true;
 }
 
 } // namespace ldae::runtime

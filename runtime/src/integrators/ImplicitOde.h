@@ -27,6 +27,10 @@ public:
   int rhs(double t, const double *y, double *f);
   /// df/dy at (t, y) with f = f(t, y), dense column-major into `J` (n x n).
   int jacobian(double t, const double *y, const double *f, double *J);
+  /// df/dy at (t, y) into `J` and its eigenvalues into `lambda` (false:
+  /// not computed), for the Adams stabilization and the stiffness test.
+  bool linearization(double t, const double *y, Eigen::MatrixXd &J,
+                     Eigen::VectorXcd &lambda);
 
   /// rhs/jacobian's status for a singular dF/dy' (a recoverable failure:
   /// off the manifold the rows may lose rank; smaller steps stay nearer).
