@@ -1,8 +1,8 @@
-// Result writing speed: ldae's CSV writer (runtime/src/ResultWriter.cpp)
+// Result writing speed: ldae's CSV writer (runtime/src/results/ResultWriter.cpp)
 // against the reference it replaced, one fmt::format("{:.17g}") string per
 // value, on the same rows, both written to /dev/null in the same run.
 // Prints one markdown table row per size (see bench/run_results.sh).
-#include "ResultWriter.h"
+#include "ldae/ResultWriter.h"
 #include "ldae/Simulation.h"
 
 #include <chrono>

@@ -14,7 +14,7 @@ rows=$("$build/bench/results_bench" "${REPS:-3}")
 section=$(cat <<EOT
 ## Results
 
-\`bench/run_results.sh\` ($(date +%Y-%m-%d), $(uname -m), load average $(cut -d' ' -f1 /proc/loadavg)): writing a CSV of 2 million smooth values of mixed magnitude to /dev/null, best of ${REPS:-3}. Reference: one \`fmt::format("{:.17g}")\` string per value (the writer before issue 13's change); ours: \`std::to_chars\` shortest round-trip text straight into a 1 MiB buffer (runtime/src/ResultWriter.cpp).
+\`bench/run_results.sh\` ($(date +%Y-%m-%d), $(uname -m), load average $(cut -d' ' -f1 /proc/loadavg)): writing a CSV of 2 million smooth values of mixed magnitude to /dev/null, best of ${REPS:-3}. Reference: one \`fmt::format("{:.17g}")\` string per value (the writer before issue 13's change); ours: \`std::to_chars\` shortest round-trip text straight into a 1 MiB buffer (runtime/src/results/ResultWriter.cpp).
 
 | rows x columns | reference MB | ours MB | reference MB/s | ours MB/s | speedup | smaller |
 |---|---:|---:|---:|---:|---:|---:|

@@ -1,7 +1,7 @@
 // --outputs names and patterns expanded against the flat model (see
 // OutputSelection.h).
 #include "OutputSelection.h"
-#include "ResultWriter.h"
+#include "ldae/ResultWriter.h"
 
 #include "ir/Query.h"
 

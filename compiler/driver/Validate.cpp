@@ -5,8 +5,8 @@
 
 #include "frontend/Frontend.h"
 #include "passes/Pipeline.h"
-#include "ResultWriter.h"
-#include "Sweep.h"
+#include "ldae/ResultWriter.h"
+#include "ldae/Sweep.h"
 #include "ldae/Simulation.h"
 
 #include <CLI/CLI.hpp>

@@ -13,11 +13,11 @@
 #include "codegen/Codegen.h"
 #include "passes/Pipeline.h"
 #include "support/Diagnostics.h"
-#include "Plot.h"
-#include "ResultWriter.h"
+#include "ldae/Plot.h"
+#include "ldae/ResultWriter.h"
 #include "Interrupt.h"
-#include "Rebind.h"
-#include "Sweep.h"
+#include "ldae/Rebind.h"
+#include "ldae/Sweep.h"
 #include "ldae/Simulation.h"
 
 #include <fmt/format.h>

@@ -2,7 +2,7 @@
 // dummy_of / original_row): from them the runtime rebuilds the pencil of
 // the model AS WRITTEN from the reduced residual's Jacobian and
 // (re-)initializes along its T(E, F) (LANGUAGE.md "Initial values", seed
-// 002; runtime/src/JumpRule.h, docs/events.md).
+// 002; runtime/src/init/JumpRule.h, docs/events.md).
 #pragma once
 
 #include "ir/DaeSystem.h"

@@ -21,7 +21,7 @@ from .errors import ModelError, ModelWarning, SimulationError, UsageError
 from .result import Result
 
 # What the runtime says of a name whose new value needs a recompile
-# (runtime/src/Rebind.cpp): the fallback when the compiled model's tables
+# (runtime/src/model/Rebind.cpp): the fallback when the compiled model's tables
 # do not tell beforehand.
 _NEEDS_RECOMPILE = "without recompiling"
 

@@ -7,7 +7,7 @@
 // wraps this module; users import that, not this (docs/python.md).
 #include "Compilation.h"
 
-#include "ResultWriter.h"
+#include "ldae/ResultWriter.h"
 #include "ldae/Simulation.h"
 #include "passes/Method.h"
 #include "passes/Pipeline.h"

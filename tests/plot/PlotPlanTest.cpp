@@ -1,6 +1,6 @@
 // The panels of a plot (planPlot): grouping by unit, splitting by scale,
 // the default curves and the caps. No gnuplot needed.
-#include "Plot.h"
+#include "ldae/Plot.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The command-line sweep: axis parsing, grid order, members that fail, the
 // files, and one compiled model simulated from several threads at once.
 #include "HandModels.h"
-#include "Sweep.h"
+#include "ldae/Sweep.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
  * re-evaluates what a changed parameter binds, runs the same simulation as
  * `ldaec --simulate` (consistent initialization, state-set switching, IDA
  * or CVODE, the failure report) and writes the same CSV. Implemented in C++
- * (runtime/src/CMain.cpp) and shipped as the shared library libldaert, so a
+ * (runtime/src/cmain/CMain.cpp) and shipped as the shared library libldaert, so a
  * C program needs only this header, the model and `-lldaert`
  * (docs/embedding-c.md).
  *

@@ -3,7 +3,7 @@
 // model's bind function) writes the same CSV, byte for byte, as the model
 // recompiled with those values (--override), in both backends.
 #include "Compilation.h"
-#include "ResultWriter.h"
+#include "ldae/ResultWriter.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-// ErrorWeights (runtime/src/ErrorWeights.cpp): each state's weight is the
+// ErrorWeights (runtime/src/integrators/ErrorWeights.cpp): each state's weight is the
 // largest that it or a variable computed from it demands, and a computed
 // variable's tolerance is floored at what the states' absolute tolerances
 // and round-off leave of it. Hand models with the ABI's tested slots; the
 // expected weights are worked out in each test.
-#include "ErrorWeights.h"
+#include "integrators/ErrorWeights.h"
 #include "HandModels.h"
 
 #include <cfloat>

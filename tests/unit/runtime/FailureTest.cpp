@@ -1,7 +1,7 @@
 // The failure path: a residual leaving its domain mid-run gives status 3, a
 // message with the time and the equation, and the results so far.
 #include "HandModels.h"
-#include "ResultWriter.h"
+#include "ldae/ResultWriter.h"
 #include "ldae/Simulation.h"
 
 #include <gtest/gtest.h>

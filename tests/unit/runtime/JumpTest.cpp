@@ -2,9 +2,9 @@
 // state after an event move onto the consistent set along T(E, F) of the
 // model as written, rebuilt from the reduced residual with dummy_of /
 // original_row. Every expected value is computed by hand in the test.
-#include "ConsistentInit.h"
+#include "init/ConsistentInit.h"
 #include "JumpModels.h"
-#include "JumpRule.h"
+#include "init/JumpRule.h"
 #include "TestUtil.h"
 #include "ldae/Simulation.h"
 #include "numeric/WongSequence.h"

@@ -1,7 +1,7 @@
 // CSV format, every-step output, the KLU path, and gnuplot pictures.
 #include "HandModels.h"
-#include "Plot.h"
-#include "ResultWriter.h"
+#include "ldae/Plot.h"
+#include "ldae/ResultWriter.h"
 #include "ldae/Simulation.h"
 
 #include <cmath>

@@ -1,6 +1,6 @@
 // The RC circuit against its analytic solution v = V0 (1 - exp(-t / RC)).
 #include "HandModels.h"
-#include "ResultWriter.h"
+#include "ldae/ResultWriter.h"
 #include "ldae/Simulation.h"
 #include "TestUtil.h"
 

@@ -2,9 +2,9 @@
 // test on the CSC Jacobian with KLU, and the sparse index-1 Newton
 // iteration, which must land on the same point as the dense Newton along
 // T(E, F); a 2000-unknown chain initializes without dense matrices.
-#include "ConsistentInit.h"
+#include "init/ConsistentInit.h"
 #include "HandModels.h"
-#include "SparseInit.h"
+#include "init/SparseInit.h"
 #include "ldae/Simulation.h"
 
 #include <cmath>
