@@ -9,6 +9,7 @@
 #include "codegen/CodePlan.h"
 #include "codegen/Codegen.h"
 #include "codegen/LlvmEmitter.h"
+#include "codegen/PlanLowering.h"
 #include "codegen/SampleSystems.h"
 
 #include <chrono>
