@@ -10,7 +10,7 @@
 #include "codegen/Codegen.h"
 #include "codegen/LlvmEmitter.h"
 #include "codegen/PlanLowering.h"
-#include "codegen/SampleSystems.h"
+#include "SampleSystems.h"
 
 #include <chrono>
 #include <cmath>

@@ -1,5 +1,5 @@
 // Hand-built DaeSystems; see SampleSystems.h.
-#include "codegen/SampleSystems.h"
+#include "SampleSystems.h"
 
 #include <cmath>
 
