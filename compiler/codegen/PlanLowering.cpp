@@ -700,7 +700,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
     plan.paramDescription.push_back(
         own ? sys.model->parameters[i].description : "");
   }
-  plan.explicitOde = sys.explicitOde;
+  plan.explicitOde = sys.form == ir::SystemForm::ExplicitOde;
   plan.algebraicErrorTest = sys.index <= 1;
 
   if (auto ok = planEventTables(sys, plan.events, opts.sources); !ok)
@@ -876,7 +876,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
   }
   plan.nDrift = sys.constraints.size();
   plan.drift = valuesFunction("drift", sys.constraints, keys);
-  if (sys.linearlyImplicit)
+  if (sys.form == ir::SystemForm::LinearlyImplicit)
     planGeometricSlots(sys, plan, diff, addFunction);
   EventFunctionValues events = eventFunctionValues(sys.events);
   if (!events.update.empty())
