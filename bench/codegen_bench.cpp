@@ -9,7 +9,8 @@
 #include "codegen/CodePlan.h"
 #include "codegen/Codegen.h"
 #include "codegen/LlvmEmitter.h"
-#include "codegen/SampleSystems.h"
+#include "codegen/PlanLowering.h"
+#include "SampleSystems.h"
 
 #include <chrono>
 #include <cmath>

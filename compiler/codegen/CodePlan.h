@@ -6,7 +6,6 @@
 // error names. See docs/codegen.md for the semantics of every operation.
 #pragma once
 
-#include "codegen/EventPlan.h"
 #include "ir/DaeSystem.h"
 #include "support/Expected.h"
 
@@ -15,6 +14,10 @@
 #include <cstdint>
 #include <string>
 #include <vector>
+
+namespace ldae {
+class SourceManager;
+}
 
 namespace ldae::codegen {
 
@@ -162,6 +165,33 @@ struct StateSetPlan {
   std::string description;
 };
 
+/// The events block of the C ABI (ldae_model, ABI 6; docs/events.md) as
+/// tables plus the plan functions that compute it (EventPlan.h fills it).
+/// Every table empty and every function -1 for a model without events.
+struct EventPlan {
+  std::vector<std::string> discreteNames;
+  std::vector<double> discreteStart;
+  std::vector<int> discreteKind; // LDAE_DISCRETE_*
+  std::vector<int> rootRelation; // per root; empty without discrete values
+  std::vector<int> reinitTarget;
+  std::vector<std::string> terminateMessage;
+  /// out = [new discrete values | reinit values | reinit fired |
+  /// terminate fired] (ldae_model::event_update).
+  int update = -1;
+  std::vector<int> thresholdRelation, sampleDiscrete;
+  /// out = [thresholds | start, interval of each sample, in pairs].
+  int timeEvents = -1;
+  std::vector<std::string> assertMessage, assertOrigin;
+  std::vector<int> assertLevel;
+  int asserts = -1; // out = 1 (holds) or 0 per assert
+  std::vector<int> modeDiscrete;
+  std::vector<double> modeValues;
+  /// Per state set, n entries each; empty: NULL in the ABI.
+  std::vector<std::vector<int>> dummyOf, originalRow;
+
+  unsigned numDiscrete() const { return discreteNames.size(); }
+};
+
 /// A block whose states the runtime chooses (ldae_dynamic_set).
 struct DynamicSetPlan {
   int rows = 0, forced = 0, candidates = 0;
@@ -243,46 +273,10 @@ struct CodePlan {
   }
 };
 
-struct PlanOptions {
-  /// Non-leaf nodes per chunk (machine function).
-  unsigned chunkSize = 256;
-  /// Roll repeated stores into loops (functions with at least
-  /// kLoopMinStores stores; see rollLoops).
-  bool loops = true;
-  /// Resolves residual locations to "file:line" (optional).
-  const class ldae::SourceManager *sources = nullptr;
-};
-
-/// Lowers `sys` (validated against the layout rule) into a code plan,
-/// differentiating residuals for the Jacobians. Fails when an expression
-/// reads a variable that is not in the unknown layout.
-Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
-                               const PlanOptions &opts = {});
-
 /// "file:line:col" of `loc`, or `none` when it is unknown or there is no
 /// source manager to name its file.
 std::string sourceOrigin(const SourceManager *sources, const SourceLoc &loc,
                          const char *none);
-
-/// Functions with fewer stores stay straight-line code (small models gain
-/// nothing from loops and read better unrolled).
-constexpr unsigned kLoopMinStores = 64;
-/// A shape becomes a loop when at least this many stores share it.
-constexpr unsigned kLoopMinCount = 8;
-/// Stores whose expression has more nodes than this stay straight-line
-/// (a loop recomputes subexpressions shared between its instances).
-constexpr unsigned kLoopMaxBody = 64;
-
-/// A sum with at least this many terms (a ground node's current balance)
-/// has its runs of terms of one shape folded by reduction loops.
-constexpr unsigned kReductionMinTerms = 64;
-
-/// Folds runs of at least kLoopMinCount same-shaped terms of long sums into
-/// Reduce nodes, then moves the stores of `fn` that share an expression
-/// shape with at least kLoopMinCount others into loops; the rest stays
-/// straight-line, in the same order of operations. Runs before chunking;
-/// leaves `fn` without dead nodes.
-void rollLoops(PlanFunction &fn);
 
 /// Removes nodes no store reaches and renumbers the rest (order kept).
 void removeDeadNodes(PlanFunction &fn);

@@ -6,6 +6,7 @@
 #include "codegen/Interpreter.h"
 #include "codegen/JitBackend.h"
 #include "codegen/ModelTables.h"
+#include "codegen/PlanLowering.h"
 
 namespace ldae::codegen {
 

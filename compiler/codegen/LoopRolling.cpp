@@ -12,7 +12,7 @@
 // load leaf of the cone becomes a column (a leaf used twice in the cone is
 // one column; two leaves with the same slot are two columns with equal
 // contents, merged when the columns are deduplicated).
-#include "codegen/CodePlan.h"
+#include "codegen/LoopRolling.h"
 
 #include <algorithm>
 #include <cstring>

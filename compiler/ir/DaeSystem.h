@@ -155,6 +155,24 @@ struct DynamicStateSet {
   std::vector<VarKey> states; // s_k, one unknown each
 };
 
+/// What shape the residual has, which decides how the runtime integrates
+/// it. One of them: a system is never both an explicit ODE and the SGA's
+/// linearly implicit field.
+enum class SystemForm {
+  /// F(t, y, y') = 0, index 1 (or the model's own index under --method
+  /// raw): IDA.
+  Implicit,
+  /// Row i of the only state set is der(unknown i) - f_i(t, y) (the causal
+  /// form "ODE"; ldae_model::explicit_ode).
+  ExplicitOde,
+  /// `--method sga|ode`: the SGA's vector field on P_f. Every unknown is
+  /// differential; stateSets[0] (the only set) has n rows linear in y',
+  /// A(t, y) y' - alpha(t, y), with dF/dy' nonsingular on P_f; and
+  /// `constraints` holds every constraint generation (over t and y only).
+  /// The runtime integrates y' = A^-1 alpha with CVODE.
+  LinearlyImplicit,
+};
+
 struct DaeSystem {
   std::shared_ptr<ExprContext> ctx;
   const Model *model = nullptr; // names, parameters, locations
@@ -179,17 +197,11 @@ struct DaeSystem {
   std::vector<SourceLoc> residualLocs;
   std::vector<double> parameterValues;
   std::vector<std::string> parameterNames;
-  /// Row i of the only state set is der(unknown i) - f_i(t, y) (the causal
-  /// form "ODE"; ldae_model::explicit_ode).
-  bool explicitOde = false;
-  /// `--method sga|ode`: the SGA's vector field on P_f. Every unknown is
-  /// differential; stateSets[0] (the only set) has n rows linear in y',
-  /// A(t, y) y' - alpha(t, y), with dF/dy' nonsingular on P_f; and
-  /// `constraints` holds every constraint generation (over t and y only).
-  /// The runtime integrates y' = A^-1 alpha with CVODE.
-  bool linearlyImplicit = false;
-  /// With linearlyImplicit: project onto `constraints` after each step
-  /// (sga); false shows the drift (ode).
+  SystemForm form = SystemForm::Implicit;
+  /// With SystemForm::LinearlyImplicit: project onto `constraints` after
+  /// each step (sga); false shows the drift (ode). A flag, not a form: sga
+  /// and ode hand over the same system and differ only in what the runtime
+  /// does after a step.
   bool projectOntoConstraints = false;
   /// The differential index of the system as handed to the integrator: 1
   /// when reduced, the model's own under `--method raw`.

@@ -396,7 +396,11 @@ void Causalizer::run() {
     ode = ode && (b.kind == CausalBlock::Kind::Explicit ||
                   b.kind == CausalBlock::Kind::Derivative);
   out_.ode = ode && explicitOdeForm();
-  sys_.explicitOde = out_.ode;
+  // A linearly implicit system is integrated as the SGA's field whatever
+  // its rows look like: it keeps its form (and gets no explicit_ode).
+  if (sys_.form != ir::SystemForm::LinearlyImplicit)
+    sys_.form =
+        out_.ode ? ir::SystemForm::ExplicitOde : ir::SystemForm::Implicit;
 }
 
 // The form CVODE takes (ldae_model::explicit_ode): row i is der(x_i) -

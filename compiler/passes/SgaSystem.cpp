@@ -46,7 +46,7 @@ bool buildSgaSystem(PassContext &pc, const SgaResult &sga, bool project,
   sys.ctx = m.sharedCtx();
   sys.model = &m;
   sys.index = 0;
-  sys.linearlyImplicit = true;
+  sys.form = ir::SystemForm::LinearlyImplicit;
   sys.projectOntoConstraints = project;
 
   VarSubstitution subst(ctx);

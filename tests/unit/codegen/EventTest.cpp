@@ -7,6 +7,7 @@
 #include "TestUtil.h"
 
 #include "codegen/Interpreter.h"
+#include "codegen/PlanLowering.h"
 
 #include <gtest/gtest.h>
 

@@ -5,6 +5,8 @@
 #include "TestUtil.h"
 
 #include "codegen/CodePlan.h"
+#include "codegen/LoopRolling.h"
+#include "codegen/PlanLowering.h"
 
 #include <cmath>
 #include <gtest/gtest.h>

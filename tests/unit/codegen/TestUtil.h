@@ -4,7 +4,7 @@
 #pragma once
 
 #include "codegen/Codegen.h"
-#include "codegen/SampleSystems.h"
+#include "SampleSystems.h"
 
 #include <string>
 #include <vector>

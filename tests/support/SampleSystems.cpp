@@ -1,5 +1,5 @@
 // Hand-built DaeSystems; see SampleSystems.h.
-#include "codegen/SampleSystems.h"
+#include "SampleSystems.h"
 
 #include <cmath>
 
@@ -204,7 +204,7 @@ SampleSystem robertsonSga(bool project) {
                                       c.mul(k2, c.pow(y2, c.constant(2))))),
                c.add(rates)});
   b.sys().constraints = {c.sub(c.add(c.add(y1, y2), y3), c.one())};
-  b.sys().linearlyImplicit = true;
+  b.sys().form = ir::SystemForm::LinearlyImplicit;
   b.sys().projectOntoConstraints = project;
   b.output("y1", y1);
   b.output("y2", y2);
@@ -239,7 +239,7 @@ SampleSystem cartesianPendulumSga(double theta0, bool project) {
                c.add(b.der(u), c.mul(lam, x)),
                c.add(c.add(b.der(v), c.mul(lam, y)), g), dc3});
   b.sys().constraints = {c1, c2, c3};
-  b.sys().linearlyImplicit = true;
+  b.sys().form = ir::SystemForm::LinearlyImplicit;
   b.sys().projectOntoConstraints = project;
   for (ExprRef e : {x, y, u, v, lam})
     b.output(b.model().variableName(e->varKey()), e);

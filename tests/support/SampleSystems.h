@@ -1,6 +1,7 @@
 // Hand-built DaeSystems exercising code generation: used by the codegen unit
 // tests and bench/codegen_bench.cpp (independent of the frontend and the
-// structural passes).
+// structural passes). Test support (library ldae_test_samples), never
+// linked into the compiler.
 #pragma once
 
 #include "ir/DaeSystem.h"
