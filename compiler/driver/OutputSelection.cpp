@@ -63,7 +63,7 @@ std::vector<std::string> reportableNames(const ir::Model &model) {
       names.push_back(model.variableName(ir::VarKey{v, 1}));
   }
   for (const ir::Parameter &p : model.parameters)
-    if (!p.discrete)
+    if (!p.discrete && !p.generated)
       names.push_back(p.name);
   return names;
 }

@@ -133,12 +133,15 @@ ir::ExprRef Flattener::eventInput(ir::EventInput kind, const std::string &text,
   return ctx().var(model_->addVariable(std::move(v)));
 }
 
+/// The runtime finds the parameter by this name (LDAE_HOMOTOPY_LAMBDA of
+/// the model ABI).
 ir::ParamId Flattener::homotopyLambda() {
   if (auto p = model_->findParameter("homotopy.lambda"))
     return *p;
   ir::Parameter p;
   p.name = "homotopy.lambda";
   p.value = 1;
+  p.generated = true;
   return model_->addParameter(std::move(p));
 }
 

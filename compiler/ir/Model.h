@@ -80,6 +80,9 @@ struct Parameter {
   /// user's parameters (DaeSystem::events): not overridable, not a
   /// parameter of the compiled model, never folded as a constant.
   bool discrete = false;
+  /// Made by the compiler for the runtime (homotopy.lambda), not the user's:
+  /// not reported among the outputs.
+  bool generated = false;
 };
 
 /// Where an equation came from, for messages and for alias elimination.

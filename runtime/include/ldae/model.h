@@ -18,6 +18,9 @@
 #ifndef LDAE_MODEL_H
 #define LDAE_MODEL_H
 
+/* The name of homotopy()'s continuation parameter (see param_names). */
+#define LDAE_HOMOTOPY_LAMBDA "homotopy.lambda"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -127,7 +130,10 @@ typedef struct ldae_model {
   const int *fixed;                    /* n: start value is a condition */
 
   int n_params;
-  const char *const *param_names;      /* n_params */
+  /* n_params; a parameter named LDAE_HOMOTOPY_LAMBDA is the compiler's
+     continuation parameter of homotopy() (1 = the actual model), set by the
+     runtime's initialization and not among the default outputs. */
+  const char *const *param_names;
   const double *param_values;          /* n_params: defaults */
 
   int n_state_sets;                    /* >= 1; state_sets[0] is the start */

@@ -43,10 +43,12 @@ chooseColumns(const ldae_model &m, const std::vector<std::string> &wanted) {
   Reportable all(m);
   if (!wanted.empty())
     return selectColumns(all.names, wanted);
-  // der(x) is there for --outputs 'der(x)'; by default x suffices.
+  // der(x) is there for --outputs 'der(x)'; by default x suffices, and
+  // homotopy()'s continuation parameter is the compiler's, not the user's.
   std::vector<int> cols;
   for (int c = 0; c < int(all.names.size()); ++c)
-    if (c >= all.sources || !isDerivative(all.names[c]))
+    if (c >= all.sources ? all.names[c] != LDAE_HOMOTOPY_LAMBDA
+                         : !isDerivative(all.names[c]))
       cols.push_back(c);
   return cols;
 }

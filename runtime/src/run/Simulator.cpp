@@ -344,10 +344,37 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &integrator, double t,
   return true;
 }
 
+/// The relations (LDAE_DISCRETE_RELATION) re-evaluated at (t, y, y'),
+/// the frozen values set to them; true when one changed. Along the
+/// continuation a model's if-branches follow the point as in an event
+/// iteration, so that the path is the actual model's and not that of the
+/// branches the start values chose: a limiter whose simplified model is
+/// its lower limit stays on it only if its `x < lower` is re-evaluated
+/// there (the Schmitt trigger of MSL's OpAmps.SignalGenerator).
+bool followRelations(ModelEval &ev, double t, const std::vector<double> &y,
+                     const std::vector<double> &yp) {
+  const ldae_model &m = ev.model();
+  if (m.n_discrete == 0 || !m.event_update || !m.discrete_kind)
+    return false;
+  std::vector<double> out(m.n_discrete + 2 * std::max(m.n_reinit, 0) +
+                          std::max(m.n_terminate, 0));
+  if (m.event_update(t, y.data(), yp.data(), ev.params(), out.data()) != 0)
+    return false;
+  bool changed = false;
+  for (int k = 0; k < m.n_discrete; ++k)
+    if (m.discrete_kind[k] == LDAE_DISCRETE_RELATION &&
+        out[k] != ev.discrete()[k]) {
+      ev.discrete()[k] = ev.pre()[k] = out[k];
+      changed = true;
+    }
+  return changed;
+}
+
 /// The continuation of homotopy(): from the simplified model (lambda = 0),
 /// solved from the start values, to the actual one (lambda = 1), each
 /// initialization starting from the last; the step in lambda grows after a
-/// success and halves after a failure.
+/// success and halves after a failure. At each point the relations follow
+/// the solution (followRelations) until they settle.
 bool homotopyContinuation(ModelEval &ev, Integrator &integrator, int set,
                           double t0, double tNext, int lambda, SimResult &res,
                           std::ostream *log) {
@@ -355,27 +382,55 @@ bool homotopyContinuation(ModelEval &ev, Integrator &integrator, int set,
   int n = ev.n();
   std::vector<double> y(m.start_y, m.start_y + n),
       yp(m.start_yp, m.start_yp + n);
+  // Initializes at lambda = l from (y, y'), again from each solution while
+  // the relations it reaches differ from those it was solved with.
+  constexpr int kMaxRelationRounds = 20;
+  // Discrete values and pre() values: a failed step goes back to those of
+  // the last point reached.
+  const int nd2 = 2 * m.n_discrete;
+  std::vector<double> discrete(ev.discrete(), ev.discrete() + nd2);
   auto from = [&](double l) {
     ev.setParam(lambda, l);
-    res.failure.clear();
-    auto re = integrator.reinit(set, t0, y.data(), yp.data());
-    return re &&
-           initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, nullptr);
+    std::copy(discrete.begin(), discrete.end(), ev.discrete());
+    std::vector<double> y0 = y, yp0 = yp;
+    for (int round = 0; round < kMaxRelationRounds; ++round) {
+      res.failure.clear();
+      auto re = integrator.reinit(set, t0, y0.data(), yp0.data());
+      if (!re || !initializeFrom(ev, integrator, set, t0, tNext, y0, yp0, res,
+                                 nullptr))
+        return false;
+      y0.assign(integrator.y(), integrator.y() + n);
+      yp0.assign(integrator.yp(), integrator.yp() + n);
+      if (!followRelations(ev, t0, y0, yp0))
+        return true;
+    }
+    return true;
+  };
+  const std::vector<double> discreteAtStart = discrete;
+  auto giveUp = [&] {
+    ev.setParam(lambda, 1.0);
+    std::copy(discreteAtStart.begin(), discreteAtStart.end(), ev.discrete());
   };
   if (!from(0.0)) {
-    ev.setParam(lambda, 1.0);
+    giveUp();
     res.failure = "the simplified model of homotopy() (lambda = 0) does not "
                   "initialize either: " +
                   res.failure;
     return false;
   }
+  // The last point reached, where a failed step goes back to.
+  auto reached = [&] {
+    y.assign(integrator.y(), integrator.y() + n);
+    yp.assign(integrator.yp(), integrator.yp() + n);
+    discrete.assign(ev.discrete(), ev.discrete() + nd2);
+  };
+  reached();
   double l = 0, step = 0.1;
   int steps = 0;
   while (l < 1) {
-    y.assign(integrator.y(), integrator.y() + n);
-    yp.assign(integrator.yp(), integrator.yp() + n);
     double next = std::min(1.0, l + step);
     if (from(next)) {
+      reached();
       l = next;
       ++steps;
       step *= 1.5;
@@ -383,15 +438,13 @@ bool homotopyContinuation(ModelEval &ev, Integrator &integrator, int set,
     }
     step /= 2;
     if (step < 1e-6) {
-      ev.setParam(lambda, 1.0);
+      giveUp();
       res.failure = fmt::format("the homotopy continuation stalled at lambda "
                                 "= {:.6g}: ",
                                 l) +
                     res.failure;
       return false;
     }
-    // Back to the last point reached.
-    ev.setParam(lambda, l);
   }
   if (log)
     *log << fmt::format("initialization: homotopy continuation from the "
@@ -400,27 +453,38 @@ bool homotopyContinuation(ModelEval &ev, Integrator &integrator, int set,
   return true;
 }
 
-/// Finds the initial point from the start values; where that fails and the
-/// model has homotopy(), continues from its simplified model. Returns false
-/// (with the failure filled in) when there is none.
+/// Finds the initial point. A model with homotopy() is initialized by the
+/// continuation from its simplified model first, as OpenModelica does by
+/// default: the simplified model is how the library's author picks the
+/// solution meant among several (the operating point of a Schmitt trigger,
+/// the branch of a diode), and a direct solve from the start values may land
+/// on another one with no sign of it. Where the continuation fails, the
+/// actual model is solved from the start values. Returns false (with the
+/// failure filled in) when there is no initial point.
 bool initialize(ModelEval &ev, Integrator &integrator, int set, double t0,
                 double tNext, SimResult &res, std::ostream *log) {
   const ldae_model &m = ev.model();
   int n = ev.n();
   std::vector<double> y(m.start_y, m.start_y + n),
       yp(m.start_yp, m.start_yp + n);
-  if (initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, log))
-    return true;
-  int lambda = ev.paramIndex("homotopy.lambda");
+  int lambda = ev.paramIndex(LDAE_HOMOTOPY_LAMBDA);
   if (lambda < 0 || ev.params()[lambda] != 1.0)
-    return false;
-  std::string direct = res.failure;
-  if (log)
-    *log << "initialization: failed from the start values; trying the "
-            "homotopy continuation\n";
+    return initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, log);
   if (homotopyContinuation(ev, integrator, set, t0, tNext, lambda, res, log))
     return true;
-  res.failure = direct + "\n  homotopy continuation: " + res.failure;
+  std::string continuation = res.failure;
+  if (log)
+    *log << "initialization: the homotopy continuation failed; trying the "
+            "actual model from the start values\n";
+  res.failure.clear();
+  auto re = integrator.reinit(set, t0, y.data(), yp.data());
+  if (!re) {
+    res.failure = describeSolverError(t0, re.error());
+    return false;
+  }
+  if (initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, log))
+    return true;
+  res.failure += "\n  homotopy continuation: " + continuation;
   return false;
 }
 
