@@ -1,5 +1,6 @@
 // Event handling (see EventLoop.h and docs/events.md).
 #include "events/EventLoop.h"
+#include "events/RelationSearch.h"
 #include "init/ConsistentInit.h"
 
 #include <algorithm>
@@ -123,7 +124,7 @@ std::string EventLoop::namesOf(const std::vector<bool> &which) const {
   std::string s;
   for (int k = 0; k < nd_; ++k)
     if (which[k])
-      s += (s.empty() ? "'" : ", '") + ev_.discreteName(k) + "'";
+      s += (s.empty() ? "" : ", ") + ev_.quotedDiscreteName(k);
   return s.empty() ? "none" : s;
 }
 
@@ -192,6 +193,23 @@ bool EventLoop::observed(double t, const std::vector<double> &y,
   return false;
 }
 
+bool EventLoop::cyclesThroughRelations(
+    const std::vector<std::vector<double>> &contradicted,
+    const std::vector<bool> &changed) const {
+  const double *cur = ev_.discrete();
+  bool relations = m_.discrete_kind != nullptr;
+  for (int k = 0; relations && k < nd_; ++k)
+    relations = !changed[k] || m_.discrete_kind[k] == LDAE_DISCRETE_RELATION;
+  return relations &&
+         std::any_of(contradicted.begin(), contradicted.end(),
+                     [&](const std::vector<double> &values) {
+                       for (int k = 0; k < nd_; ++k)
+                         if (differs(values[k], cur[k]))
+                           return false;
+                       return true;
+                     });
+}
+
 EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
                                 std::vector<double> &yp,
                                 const Reinitialize &reinit) {
@@ -202,6 +220,11 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
   std::vector<double> fired(nr, std::numeric_limits<double>::quiet_NaN());
   bool visible = false;
   std::string terminated;
+  // The discrete values each solved point changed: coming back to one of
+  // them is a cycle (RelationSearch.h), searched once.
+  std::vector<std::vector<double>> contradicted;
+  std::vector<double> solvedWith;
+  bool searched = false;
   for (int iter = 0;; ++iter) {
     if (!update(t, y.data(), yp.data())) {
       message_ = fmt::format("the event update could not be evaluated at t "
@@ -233,6 +256,9 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
     }
     if (!any && held.empty())
       break;
+    if (!solvedWith.empty())
+      contradicted.push_back(std::move(solvedWith));
+    solvedWith.clear();
     if (iter + 1 >= kMaxIterations) {
       message_ = fmt::format(
           "the event iteration at t = {:.10g} found no fixed point after {} "
@@ -247,13 +273,27 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
     // A change that neither a residual nor an output reads (a relation
     // that only guards a when-clause, crossing back) needs no restart and
     // shows in no row.
-    if (!held.empty() || observed(t, y, yp)) {
+    if (held.empty() && !searched && cyclesThroughRelations(contradicted, changed)) {
+      searched = true;
+      std::vector<int> cycling;
+      for (int k = 0; k < nd_; ++k)
+        if (changed[k])
+          cycling.push_back(k);
+      if (!chooseConsistentRelations(ev_, set_, t, y, yp, cycling, reinit,
+                                     message_))
+        return EventOutcome::Failed;
+      for (int k = 0; k < nd_; ++k)
+        if (differs(cur[k], entry[k]))
+          changedAny[k] = true;
+      visible = true;
+    } else if (!held.empty() || observed(t, y, yp)) {
       std::string failure;
       if (!reinit(t, y, yp, held, failure)) {
         message_ = failure;
         return EventOutcome::Failed;
       }
       visible = true;
+      solvedWith.assign(cur, cur + nd_);
     }
     std::copy(cur, cur + nd_, ev_.pre());
   }

@@ -118,6 +118,11 @@ private:
   /// values the last update changed (current against pre()).
   bool observed(double t, const std::vector<double> &y,
                 const std::vector<double> &yp);
+  /// Whether the current discrete values are ones a solved point of this
+  /// iteration contradicted, and only relations changed on the way.
+  bool cyclesThroughRelations(
+      const std::vector<std::vector<double>> &contradicted,
+      const std::vector<bool> &changed) const;
   void settle(int kind, double t, const double *y, const double *yp);
   void setKind(int kind, double v);
   bool sampleInstant(int s, double t, const double *y, const double *yp) const;

@@ -34,6 +34,12 @@ std::string ModelEval::discreteName(int k) const {
   return fmt::format("d[{}]", k);
 }
 
+std::string ModelEval::quotedDiscreteName(int k) const {
+  if (m_.discrete_kind && m_.discrete_kind[k] == LDAE_DISCRETE_RELATION)
+    return "(" + discreteName(k) + ")";
+  return "'" + discreteName(k) + "'";
+}
+
 int ModelEval::jacobian(int k, double t, const double *y, const double *yp,
                         double cj, Eigen::MatrixXd &J) const {
   const ldae_state_set &s = set(k);

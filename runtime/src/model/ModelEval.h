@@ -35,6 +35,9 @@ public:
   const double *pre() const { return discrete() + m_.n_discrete; }
   /// The discrete value's name ("d[3]" when the model has none).
   std::string discreteName(int k) const;
+  /// The name for a message: a variable quoted ('flying'), a relation,
+  /// whose text quotes its own names, in parentheses.
+  std::string quotedDiscreteName(int k) const;
   /// Index of the parameter called `name`, or -1.
   int paramIndex(const char *name) const;
   /// Changes a parameter for every later evaluation (the homotopy
