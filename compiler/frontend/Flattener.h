@@ -472,6 +472,9 @@ private:
   /// Collapses each recorded dimension of `v` to the element its run-time
   /// subscript selects (frontend/RunTimeSubscripts.cpp).
   Value selectAtRunTime(Value v, const std::vector<RunTimeSubscript> &runTime);
+  /// While an if-expression's branch is lowered: the condition that takes
+  /// it (and the enclosing branches'); null outside any.
+  ir::ExprRef branchGuard_ = nullptr;
   /// Whether `index` can only take integer values: it reads no Real
   /// unknown and not time.
   bool isIntegerValued(ir::ExprRef index);

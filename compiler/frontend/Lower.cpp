@@ -430,7 +430,19 @@ std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
     size_t pairs = (e.ops.size() - 1) / 2;
     std::vector<ir::ExprRef> conds;
     std::vector<Value> values;
+    // Each branch is lowered under the condition that takes it, so that a
+    // check inside it (a run-time subscript's range) holds only there.
+    const ir::ExprRef outerGuard = branchGuard_;
+    ir::ExprRef notEarlier = outerGuard;
+    auto guarded = [&](ir::ExprRef a, ir::ExprRef b) {
+      return a ? c.logicalAnd(a, b) : b;
+    };
+    struct GuardRestore {
+      ir::ExprRef &guard, saved;
+      ~GuardRestore() { guard = saved; }
+    } restore{branchGuard_, outerGuard};
     for (size_t k = 0; k < pairs; ++k) {
+      branchGuard_ = notEarlier;
       std::optional<Value> cond = lower(*e.ops[2 * k], scope, env);
       if (!cond)
         return std::nullopt;
@@ -443,6 +455,8 @@ std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
       std::optional<double> known = constantValue(cond->scalarExpr());
       if (known && *known == 0)
         continue;
+      branchGuard_ =
+          known ? notEarlier : guarded(notEarlier, cond->scalarExpr());
       std::optional<Value> v = lower(*e.ops[2 * k + 1], scope, env);
       if (!v)
         return std::nullopt;
@@ -455,8 +469,10 @@ std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
       }
       conds.push_back(cond->scalarExpr());
       values.push_back(*v);
+      notEarlier = guarded(notEarlier, c.logicalNot(cond->scalarExpr()));
     }
     if (conds.empty() || conds.back() != nullptr) {
+      branchGuard_ = notEarlier;
       std::optional<Value> v = lower(*e.ops.back(), scope, env);
       if (!v)
         return std::nullopt;

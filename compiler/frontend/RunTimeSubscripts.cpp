@@ -6,7 +6,9 @@
 // generate no events: the index is piecewise constant, changing only at
 // events of its own. An index outside the dimension ends the run through an
 // assert at the subscript (MLS 10.5: an index out of bounds is an error),
-// never a silent pick of an edge element.
+// never a silent pick of an edge element; inside an if-expression's branch
+// the assert holds only where the branch is taken (`if i > 0 then a[i]
+// else y0`, MSL's MultiSwitch).
 #include "frontend/Flattener.h"
 
 #include "ir/Traverse.h"
@@ -69,6 +71,10 @@ Value Flattener::selectAtRunTime(Value v,
         ctx().compare(ir::CompareKind::Ge, sub.index, ctx().one(), true),
         ctx().compare(ir::CompareKind::Le, sub.index,
                       ctx().constant(static_cast<double>(size)), true));
+    // Inside an if-expression's branch the read happens only there.
+    if (branchGuard_)
+      inRange.condition = ctx().logicalOr(ctx().logicalNot(branchGuard_),
+                                          inRange.condition);
     inRange.message = "index out of range for '" + sub.what + "' of size " +
                       std::to_string(size);
     inRange.loc = sub.where.begin;

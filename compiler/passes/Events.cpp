@@ -17,6 +17,7 @@
 #include "ir/Evaluate.h"
 #include "ir/Query.h"
 #include "ir/Substitute.h"
+#include "ir/Traverse.h"
 
 #include <algorithm>
 #include <map>
@@ -124,6 +125,7 @@ public:
 
 private:
   void initialDiscreteValues();
+  bool initialPreValue(const ir::Equation &e);
   /// The parameters `e` reads were folded into a value of the compiled
   /// model: they fix it (ir::Parameter::structural).
   void markStructural(ir::ExprRef e);
@@ -220,10 +222,66 @@ void EventBuilder::initialDiscreteValues() {
         m_.variables[k.var].hasStart = true;
         used = true;
       }
-    if (!used)
+    if (!used && !initialPreValue(e))
       kept.push_back(std::move(e));
   }
   m_.initialEquations = std::move(kept);
+}
+
+/// `initial equation pre(y) = pre_y_start;` (MSL's OnOffController and
+/// MathInteger blocks): pre(y) is an unknown of the initialization
+/// (MLS 8.6) that the equation gives from parameters. It becomes the
+/// discrete variable's start, fixed, so that the rounds of the initial
+/// event hold it as they hold pre(v) = v.start (preDuringInitialization);
+/// y itself is then computed by its own equation. True when the equation
+/// was such. Not an equation of two pre() values (StateGraph's
+/// `pre(newActive) = pre(localActive)`): there both are unknowns of the
+/// discrete initialization, which ldaec does not solve (the equation
+/// stays, and the initialization names it as singular).
+bool EventBuilder::initialPreValue(const ir::Equation &e) {
+  if (ir::readsContinuous(e.residual, discrete_))
+    return false;
+  for (ir::VarKey k : ir::freeVariables(e.residual))
+    if (k.order == 0)
+      return false; // of the variable itself: initialDiscreteValues
+  std::vector<ir::VarId> pres;
+  ir::ExprRef roots[] = {e.residual};
+  ir::postOrder(roots, [&](ir::ExprRef n) {
+    if (n->kind() == ir::ExprKind::Pre && n->var() < discrete_.size() &&
+        discrete_[n->var()] &&
+        std::find(pres.begin(), pres.end(), n->var()) == pres.end())
+      pres.push_back(n->var());
+  });
+  if (pres.size() != 1)
+    return false;
+  for (ir::VarId v : pres) {
+    if (m_.variables[v].input != ir::EventInput::None)
+      continue;
+    // pre(v) as the unknown: solved as a variable would be.
+    ir::Substitution asVariable(ctx_);
+    asVariable.set(ctx_.pre(v), ctx_.var(v));
+    ir::ExprRef value =
+        ir::solveLinear(ctx_, asVariable.apply(e.residual), v);
+    if (!value)
+      continue;
+    ir::EvalEnv env = pc_.startEnv();
+    env.time = m_.experiment.startTime.value_or(0.0);
+    Expected<double> x = ir::evaluate(value, env, &m_);
+    if (!x)
+      continue;
+    if (const ir::WhenClause *w = initialClauseAssigning(v)) {
+      pc_.diags.report(DiagId::ErrInitialEquationAndWhenInitial, e.loc,
+                       {m_.variables[v].name, e.text,
+                        "when " + ir::printLsd(w->condition, &m_)});
+      failed_ = true;
+    }
+    markStructural(value);
+    m_.variables[v].start = *x;
+    m_.variables[v].hasStart = true;
+    m_.variables[v].fixed = true;
+    return true;
+  }
+  return false;
 }
 
 /// floor(x) and ceil(x) (integer(x) is floor) of a continuous or

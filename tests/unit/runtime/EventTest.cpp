@@ -212,8 +212,8 @@ TEST(Events, TogglingWhenIsReportedAsChattering) {
   EXPECT_EQ(r->status, 3);
   EXPECT_NE(r->failure.find("chattering at t = 1"), std::string::npos)
       << r->failure;
-  EXPECT_NE(r->failure.find("'x <= 0'"), std::string::npos) << r->failure;
-  EXPECT_NE(r->failure.find("'x > 0'"), std::string::npos) << r->failure;
+  EXPECT_NE(r->failure.find("(x <= 0)"), std::string::npos) << r->failure;
+  EXPECT_NE(r->failure.find("(x > 0)"), std::string::npos) << r->failure;
   ASSERT_GE(r->rows.size(), 11u);
   EXPECT_NEAR(r->rows.back()[0], 1.0, 1e-7);
   EXPECT_NEAR(r->rows[10][0], 1.0, 1e-12);
