@@ -126,6 +126,8 @@ public:
 private:
   void initialDiscreteValues();
   bool initialPreValue(const ir::Equation &e);
+  bool startFromInitialEquation(ir::VarId v, ir::ExprRef value,
+                                const ir::Equation &e, bool fixed);
   /// The parameters `e` reads were folded into a value of the compiled
   /// model: they fix it (ir::Parameter::structural).
   void markStructural(ir::ExprRef e);
@@ -184,6 +186,34 @@ private:
   bool failed_ = false; // an error reported before buildUpdate
 };
 
+/// Sets v's start to `value` (of parameters, evaluated now) given by the
+/// initial equation e; false when it cannot be evaluated. A when-clause
+/// active at initialization that assigns v too makes its pre() an unknown
+/// of the initialization (`xd = pre(xd) + 4*pre(x)` with `xd = 2`:
+/// pre(xd) = -6 in OpenModelica's pre3), which ldaec does not solve:
+/// refused, never a guess.
+bool EventBuilder::startFromInitialEquation(ir::VarId v, ir::ExprRef value,
+                                            const ir::Equation &e,
+                                            bool fixed) {
+  ir::EvalEnv env = pc_.startEnv();
+  env.time = m_.experiment.startTime.value_or(0.0);
+  Expected<double> x = ir::evaluate(value, env, &m_);
+  if (!x)
+    return false;
+  if (const ir::WhenClause *w = initialClauseAssigning(v)) {
+    pc_.diags.report(DiagId::ErrInitialEquationAndWhenInitial, e.loc,
+                     {m_.variables[v].name, e.text,
+                      "when " + ir::printLsd(w->condition, &m_)});
+    failed_ = true;
+  }
+  // Folded into the discrete start: a run cannot evaluate it again.
+  markStructural(value);
+  m_.variables[v].start = *x;
+  m_.variables[v].hasStart = true;
+  m_.variables[v].fixed = m_.variables[v].fixed || fixed;
+  return true;
+}
+
 /// `initial equation heat = false;`: an initial equation of discrete
 /// values sets the start value of the variable it is solved for (the
 /// initial event starts from it); it is no equation of the continuous
@@ -201,25 +231,8 @@ void EventBuilder::initialDiscreteValues() {
         ir::ExprRef value = ir::solveLinear(ctx_, e.residual, k.var);
         if (!value)
           continue;
-        ir::EvalEnv env = pc_.startEnv();
-        env.time = m_.experiment.startTime.value_or(0.0);
-        Expected<double> v = ir::evaluate(value, env, &m_);
-        if (!v)
+        if (!startFromInitialEquation(k.var, value, e, /*fixed=*/false))
           continue;
-        // A when-clause active at initialization that assigns the variable
-        // too makes its pre() an unknown of the initialization (`xd =
-        // pre(xd) + 4*pre(x)` with `xd = 2`: pre(xd) = -6 in OpenModelica's
-        // pre3), which ldaec does not solve: refused, never a guess.
-        if (const ir::WhenClause *w = initialClauseAssigning(k.var)) {
-          pc_.diags.report(DiagId::ErrInitialEquationAndWhenInitial, e.loc,
-                           {m_.variables[k.var].name, e.text,
-                            "when " + ir::printLsd(w->condition, &m_)});
-          failed_ = true;
-        }
-        // Folded into the discrete start: a run cannot evaluate it again.
-        markStructural(value);
-        m_.variables[k.var].start = *v;
-        m_.variables[k.var].hasStart = true;
         used = true;
       }
     if (!used && !initialPreValue(e))
@@ -252,36 +265,15 @@ bool EventBuilder::initialPreValue(const ir::Equation &e) {
         std::find(pres.begin(), pres.end(), n->var()) == pres.end())
       pres.push_back(n->var());
   });
-  if (pres.size() != 1)
+  if (pres.size() != 1 ||
+      m_.variables[pres[0]].input != ir::EventInput::None)
     return false;
-  for (ir::VarId v : pres) {
-    if (m_.variables[v].input != ir::EventInput::None)
-      continue;
-    // pre(v) as the unknown: solved as a variable would be.
-    ir::Substitution asVariable(ctx_);
-    asVariable.set(ctx_.pre(v), ctx_.var(v));
-    ir::ExprRef value =
-        ir::solveLinear(ctx_, asVariable.apply(e.residual), v);
-    if (!value)
-      continue;
-    ir::EvalEnv env = pc_.startEnv();
-    env.time = m_.experiment.startTime.value_or(0.0);
-    Expected<double> x = ir::evaluate(value, env, &m_);
-    if (!x)
-      continue;
-    if (const ir::WhenClause *w = initialClauseAssigning(v)) {
-      pc_.diags.report(DiagId::ErrInitialEquationAndWhenInitial, e.loc,
-                       {m_.variables[v].name, e.text,
-                        "when " + ir::printLsd(w->condition, &m_)});
-      failed_ = true;
-    }
-    markStructural(value);
-    m_.variables[v].start = *x;
-    m_.variables[v].hasStart = true;
-    m_.variables[v].fixed = true;
-    return true;
-  }
-  return false;
+  // pre(v) as the unknown: solved as a variable would be.
+  const ir::VarId v = pres[0];
+  ir::Substitution asVariable(ctx_);
+  asVariable.set(ctx_.pre(v), ctx_.var(v));
+  ir::ExprRef value = ir::solveLinear(ctx_, asVariable.apply(e.residual), v);
+  return value && startFromInitialEquation(v, value, e, /*fixed=*/true);
 }
 
 /// floor(x) and ceil(x) (integer(x) is floor) of a continuous or
