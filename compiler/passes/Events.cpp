@@ -184,6 +184,8 @@ private:
   std::map<size_t, std::string> definedBy_; // slot -> its equation's text
   std::unique_ptr<ir::Substitution> defSubst_;
   bool failed_ = false; // an error reported before buildUpdate
+  /// Unknowns with the equation der(v) = 0 (parameters with fixed = false).
+  std::set<ir::VarId> constantInTime_;
 };
 
 /// Sets v's start to `value` (of parameters, evaluated now) given by the
@@ -861,6 +863,10 @@ bool EventBuilder::buildUpdate() {
 }
 
 bool EventBuilder::buildTimeEvents() {
+  for (const ir::Equation &e : m_.equations)
+    if (e.residual->kind() == ir::ExprKind::Variable &&
+        e.residual->order() == 1)
+      constantInTime_.insert(e.residual->var());
   // Roots, thresholds and asserts read the current (frozen) discrete
   // values; relations inside them are evaluated directly.
   ir::Substitution sr(ctx_);
@@ -887,8 +893,15 @@ bool EventBuilder::buildTimeEvents() {
         bool userParams = true;
         for (ir::ParamId p : ir::freeParameters(parts[i]))
           userParams = userParams && p < out_.base;
-        if (!ir::freeVariables(parts[i]).empty() ||
-            ir::dependsOnTime(parts[i]) || !userParams) {
+        // A parameter with fixed = false (MSL's Mean: `t0 = time` at the
+        // initialization, `sample(t0 + 1/f, 1/f)`) is an unknown whose
+        // der() is 0: constant once initialized, and the time events are
+        // evaluated from the initialized point.
+        bool constantUnknowns = true;
+        for (ir::VarKey k : ir::freeVariables(parts[i]))
+          constantUnknowns = constantUnknowns && k.order == 0 &&
+                             constantInTime_.count(k.var) > 0;
+        if (!constantUnknowns || ir::dependsOnTime(parts[i]) || !userParams) {
           pc_.diags.report(DiagId::ErrSampleNotParameter, v.loc, {what[i]});
           ok = false;
         }

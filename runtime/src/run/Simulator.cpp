@@ -23,6 +23,7 @@
 #include <chrono>
 #include <deque>
 #include <cmath>
+#include <limits>
 #include <fmt/format.h>
 #include <map>
 #include <ostream>
@@ -634,6 +635,7 @@ public:
   /// A model without unknowns: the outputs at the output times.
   void closedForm(const ldae_model &m, const std::vector<double> &params,
                   const std::vector<int> &cols);
+  bool atStopTime(double t) const;
   /// Runs `m` from its start values (carry not valid) or from the carried
   /// point of a mode change, which it fills in when its own run ends in
   /// one. An Error only for options the model refuses.
@@ -804,6 +806,16 @@ void Run::startFrom(ModelEval &ev, const Carry &carry, std::vector<double> &y,
     if (auto it = carry.discrete.find(ev.discreteName(k));
         it != carry.discrete.end())
       ev.discrete()[k] = ev.pre()[k] = it->second;
+}
+
+/// Whether t is the stop time up to round-off: a sample's instant
+/// computed as start + k * interval (0.02 + 9 * 0.02 = 0.19999999999999998
+/// for a stop time 0.2) leaves no interval to integrate (IDA refuses a
+/// tout that close), and the point there is the stop time's.
+bool Run::atStopTime(double t) const {
+  return t < s_.stop &&
+         s_.stop - t <= 8 * std::numeric_limits<double>::epsilon() *
+                            std::max(1.0, std::fabs(s_.stop));
 }
 
 Expected<StageEnd> Run::stage(const ldae_model &m,
@@ -1168,7 +1180,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     // On to the stop time also past the last of --output-times: the
     // last row is the stop time's, from the integrator there (it was
     // interpolated from a step that an event had cut short of it).
-    if (t >= s_.stop)
+    if (t >= s_.stop || atStopTime(t))
       break;
     if (m.n_state_sets > 1) {
       cond = pivotConditions(ev, t, integrator.y(), integrator.yp());
@@ -1188,7 +1200,10 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     progress_.update(t);
   }
   // The last row is the stop time's; then the terminal event.
-  if (rows_.lastTime() < s_.stop) {
+  if (rows_.lastTime() < s_.stop && atStopTime(t)) {
+    if (!rec.record(s_.stop, integrator.y(), integrator.yp()))
+      return done(StageEnd::Done);
+  } else if (rows_.lastTime() < s_.stop) {
     auto at = integrator.interpolate(s_.stop, yAt.data(), ypAt.data());
     if (!at) {
       res_.failure = describeSolverError(s_.stop, at.error());
