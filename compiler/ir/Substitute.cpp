@@ -93,6 +93,19 @@ ExprRef Substitution::apply(ExprRef e) {
 /// `r = 0` solved for variable v when r is linear in it with a constant
 /// coefficient (`on - (s < 0)`, `2 * n - m`); null otherwise.
 ExprRef solveLinear(ExprContext &ctx, ExprRef r, VarId v) {
+  // An if-equation's residual, `if c then y - a else y - b` (MSL's
+  // Digital.Sources.Pulse): solved branch by branch when c does not read v.
+  if (r->kind() == ExprKind::If) {
+    bool condReadsV = false;
+    for (VarKey k : freeVariables(r->operand(0)))
+      condReadsV = condReadsV || k.var == v;
+    if (!condReadsV) {
+      ExprRef then = solveLinear(ctx, r->operand(1), v);
+      ExprRef otherwise = then ? solveLinear(ctx, r->operand(2), v) : nullptr;
+      if (then && otherwise)
+        return ctx.ifThenElse(r->operand(0), then, otherwise);
+    }
+  }
   auto at = [&](double x) {
     Substitution s(ctx);
     s.set(ctx.var(v), ctx.constant(x));
