@@ -249,10 +249,9 @@ void EventBuilder::initialDiscreteValues() {
 /// discrete variable's start, fixed, so that the rounds of the initial
 /// event hold it as they hold pre(v) = v.start (preDuringInitialization);
 /// y itself is then computed by its own equation. True when the equation
-/// was such. Not an equation of two pre() values (StateGraph's
-/// `pre(newActive) = pre(localActive)`): there both are unknowns of the
-/// discrete initialization, which ldaec does not solve (the equation
-/// stays, and the initialization names it as singular).
+/// was such. An equation of two pre() values (StateGraph's
+/// `pre(newActive) = pre(localActive)`) makes both unknowns of a discrete
+/// initialization, which ldaec does not solve: refused at the equation.
 bool EventBuilder::initialPreValue(const ir::Equation &e) {
   if (ir::readsContinuous(e.residual, discrete_))
     return false;
@@ -267,6 +266,15 @@ bool EventBuilder::initialPreValue(const ir::Equation &e) {
         std::find(pres.begin(), pres.end(), n->var()) == pres.end())
       pres.push_back(n->var());
   });
+  if (pres.size() > 1) {
+    std::vector<std::string> names;
+    for (ir::VarId v : pres)
+      names.push_back(m_.variables[v].name);
+    pc_.diags.report(DiagId::ErrInitialPreSystem, e.loc,
+                     {e.text, quotedList(names)});
+    failed_ = true;
+    return true;
+  }
   if (pres.size() != 1 ||
       m_.variables[pres[0]].input != ir::EventInput::None)
     return false;
