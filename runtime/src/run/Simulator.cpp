@@ -107,7 +107,9 @@ public:
   /// its domain there or an assert of level error does not hold: the rows
   /// so far are kept, the run stops.
   bool record(double t, const double *y, const double *yp) {
-    std::vector<double> row{t};
+    std::vector<double> row;
+    row.reserve(cols_.size() + 1); // one allocation, no slack per row
+    row.push_back(t);
     const double *src = y;
     if (m_.n_outputs > 0) {
       int rc = m_.outputs(t, y, yp, ev_.params(), out_.data());
@@ -1030,7 +1032,9 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
             .count();
     if (!res.failure.empty())
       res.status = 3;
-    return res;
+    // Called once, as the run returns: the rows are handed over, not
+    // copied (a run held in memory would need them twice at its peak).
+    return std::move(res);
   };
 
   if (!bound->failure.empty()) {
