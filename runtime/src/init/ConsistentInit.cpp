@@ -17,6 +17,7 @@
 #include "init/ConsistentInit.h"
 #include "init/JumpRule.h"
 #include "init/SparseInit.h"
+#include "numeric/NewtonKernel.h"
 #include "numeric/Rank.h"
 #include "numeric/WongSequence.h"
 
@@ -210,6 +211,10 @@ namespace {
 
 enum class Mode { Jumps, Nearest };
 
+/// The convergence tolerance of residuals (row-scaled, nominal units) and
+/// steps.
+constexpr double kTol = 1e-10;
+
 /// Entries of an orthonormal direction basis below this are round-off.
 constexpr double kBasisRoundOff = 1e-12;
 
@@ -230,29 +235,40 @@ public:
       : ev_(ev), m_(ev.model()), c_(c), set_(set), t_(t), n_(ev.n()),
         D_(nominalScale(ev.model())) {}
 
-  /// One Newton step in place. Fills the result's convergence status.
-  StepResult step(Mode mode, VectorXd &y, VectorXd &yp) {
-    StepResult res;
+  /// The residuals and Jacobians at (y, y'); false with the domain error
+  /// in `res`.
+  bool evaluate(const VectorXd &y, const VectorXd &yp, StepResult &res) {
     int ni = c_.numInitial(m_);
-    VectorXd r(n_), g(ni), rt(n_);
+    r.resize(n_);
+    g.resize(ni);
+    Gy.resize(ni, n_);
+    Gyp.resize(ni, n_);
     if (int rc = ev_.residual(set_, t_, y.data(), yp.data(), r.data())) {
       res.domainError = rc > 0 ? ev_.describeRow(rc - 1) : "the residual";
       res.domainRow = rc - 1;
-      return res;
+      return false;
     }
-    MatrixXd Fy, E, Gy(ni, n_), Gyp(ni, n_);
     if (int rc = ev_.jacobianParts(set_, t_, y.data(), yp.data(), Fy, E)) {
       res.domainError = rc > 0 ? ev_.describeRow(rc - 1) : "the Jacobian";
       res.domainRow = rc - 1;
-      return res;
+      return false;
     }
     if (ni > 0) {
       if (ev_.initResidual(t_, y.data(), yp.data(), g.data()) ||
           ev_.initJacobian(t_, y.data(), yp.data(), Gy, Gyp)) {
         res.domainError = "an initial equation";
-        return res;
+        return false;
       }
     }
+    return true;
+  }
+
+  /// The step from the last evaluation, its residual and solvability in
+  /// `res`.
+  void solve(Mode mode, const VectorXd &y, const VectorXd &yp,
+             StepResult &res) {
+    int ni = c_.numInitial(m_);
+    VectorXd rt(n_);
     MatrixXd Es = E * D_.asDiagonal(), Fs = Fy * D_.asDiagonal();
     JumpDirections jd = jumpDirections(m_, set_, E, Fy, D_);
     const MatrixXd &T = jd.basis;
@@ -344,12 +360,11 @@ public:
       rowScale(i) = std::max(A.row(i).cwiseAbs().maxCoeff(), floor);
     VectorXd scaled = b.cwiseAbs().cwiseQuotient(rowScale);
     auto isStateRow = [&](int i) { return i < n_ || i >= n_ * (1 + levels); };
-    const double tol = 1e-10;
     res.residual = 0;
     for (int i = 0; i < rows; ++i)
       if (isStateRow(i)) {
         res.residual = std::max(res.residual, scaled(i));
-        if (scaled(i) > tol)
+        if (scaled(i) > kTol)
           res.badRows.push_back(i);
       }
     VectorXd x = numeric::minimumNormSolution(A, b, 1e-12);
@@ -361,15 +376,19 @@ public:
         if (lin(i) > 1e-8 * std::max(1.0, scaled.maxCoeff()))
           res.badRows.push_back(i);
     }
-    VectorXd dy = B * x.head(k);
-    y += D_.asDiagonal() * dy;
-    yp += D_.asDiagonal() * x.segment(k, n_);
+    dy_ = B * x.head(k);
+    dyp_ = x.segment(k, n_);
+    res.levels = levels;
+  }
+
+  /// Takes the step solved for; fills the result's convergence status.
+  void apply(VectorXd &y, VectorXd &yp, StepResult &res) const {
+    y += D_.asDiagonal() * dy_;
+    yp += D_.asDiagonal() * dyp_;
     // Converged: the equations hold and the hidden constraints (through
     // the derivative levels) ask for no further move along T.
     res.converged = res.solvable && res.badRows.empty() &&
-                    (dy.size() == 0 || dy.cwiseAbs().maxCoeff() <= tol);
-    res.levels = levels;
-    return res;
+                    (dy_.size() == 0 || dy_.cwiseAbs().maxCoeff() <= kTol);
   }
 
   /// "equation 3 at model.lsd:12" for a row of the step's system.
@@ -391,6 +410,11 @@ private:
   double t_;
   int n_;
   VectorXd D_;
+  /// The last evaluation.
+  VectorXd r, g;
+  MatrixXd Fy, E, Gy, Gyp;
+  /// The last step solved for (nominal-scaled).
+  VectorXd dy_, dyp_;
 };
 
 } // namespace
@@ -416,35 +440,74 @@ InitOutcome initializeAlongJumps(const ModelEval &ev, int set, double t,
   for (Mode mode : {Mode::Jumps, Mode::Nearest}) {
     VectorXd y = Eigen::Map<const VectorXd>(y0.data(), n);
     VectorXd yp = Eigen::Map<const VectorXd>(yp0.data(), n);
-    bool first = true;
-    for (int iter = 0; iter < 50; ++iter) {
-      StepResult s = newton.step(mode, y, yp);
-      if (first) {
+    // The Newton iteration in `mode`: stops where the linearized
+    // conditions have no solution along T (the nearest point next).
+    struct Steps : numeric::NewtonSystem {
+      Steps(Newton &newton, Mode mode, VectorXd &y, VectorXd &yp,
+            InitOutcome &out, double &best, StepResult &last)
+          : newton(newton), mode(mode), y(y), yp(yp), out(out), best(best),
+            last(last) {}
+      bool evaluate(int) override {
+        s = StepResult();
+        if (newton.evaluate(y, yp, s))
+          return true;
+        noteFirst();
+        return false;
+      }
+      bool solveStep(int) override {
+        newton.solve(mode, y, yp, s);
+        return true;
+      }
+      numeric::TrialVerdict tryStep(double) override {
+        newton.apply(y, yp, s);
+        return numeric::TrialVerdict::Accept;
+      }
+      numeric::StepVerdict afterStep(double) override {
+        noteFirst();
+        best = std::min(best, s.residual);
+        last = s;
+        if (s.converged)
+          return numeric::StepVerdict::Converged;
+        if (!s.solvable && mode == Mode::Jumps)
+          return numeric::StepVerdict::Stop; // try the nearest point
+        return numeric::StepVerdict::Continue;
+      }
+      /// The jump space at the mode's first iterate.
+      void noteFirst() {
+        if (!first)
+          return;
         out.jumpDim = s.jumpDim;
         out.index = s.index;
         out.written = s.written;
         first = false;
       }
-      if (!s.domainError.empty()) {
-        out.failure = domainFailure(s.domainError);
-        if (s.domainRow >= 0) {
-          out.domainRow = s.domainRow;
-          out.domainY.assign(y.data(), y.data() + n);
-        }
-        return out;
+
+      Newton &newton;
+      Mode mode;
+      VectorXd &y, &yp;
+      InitOutcome &out;
+      double &best;
+      StepResult &last;
+      StepResult s;
+      bool first = true;
+    } steps(newton, mode, y, yp, out, best, last);
+    switch (numeric::iterateNewton(steps, {50}).end) {
+    case numeric::NewtonEnd::EvaluationFailed:
+      out.failure = domainFailure(steps.s.domainError);
+      if (steps.s.domainRow >= 0) {
+        out.domainRow = steps.s.domainRow;
+        out.domainY.assign(y.data(), y.data() + n);
       }
-      best = std::min(best, s.residual);
-      last = s;
-      if (s.converged) {
-        out.ok = true;
-        out.nearestPoint = mode == Mode::Nearest;
-        out.residual = s.residual;
-        out.y.assign(y.data(), y.data() + n);
-        out.yp.assign(yp.data(), yp.data() + n);
-        return out;
-      }
-      if (!s.solvable && mode == Mode::Jumps)
-        break; // no step along T: try the nearest point
+      return out;
+    case numeric::NewtonEnd::Converged:
+      out.ok = true;
+      out.nearestPoint = mode == Mode::Nearest;
+      out.residual = steps.s.residual;
+      out.y.assign(y.data(), y.data() + n);
+      out.yp.assign(yp.data(), yp.data() + n);
+      return out;
+    default:
+      break;
     }
     reached = y;
     if (mode == Mode::Jumps && log)

@@ -5,6 +5,7 @@
 
 #include "graph/Matching.h"
 #include "graph/Scc.h"
+#include "numeric/NewtonKernel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -131,54 +132,80 @@ public:
       return out;
     if (!structure(out))
       return out;
-    double best = INFINITY;
-    for (int iter = 0; iter < kMaxIterations; ++iter) {
-      if (iter > 0 && !evaluate(out))
-        return out;
-      assemble();
-      double res = scaledResidual();
-      best = std::min(best, res);
-      SparseLu lu;
-      if (!lu.factor(A_)) {
-        int c = lu.singularColumn();
-        out.failure = fmt::format(
-            "the initialization system is singular {}{}",
-            iter == 0 ? "at the start values" : "at the current iterate",
-            c >= 0 ? fmt::format(" (at '{}')", L_.colName(c, diff_)) : "");
-        out.residual = best;
-        // Singular from the start: the structure was right but the numbers
-        // are not; the dense path (nearest point) may still find a point.
-        out.applicable = iter > 0;
-        return out;
+    // The Newton iteration on M (dy, dy') = -F: the residual judged before
+    // the step, converged when it and the step are below kTol.
+    struct Steps : numeric::NewtonSystem {
+      Steps(SparseInit &s, InitOutcome &out) : s(s), out(out) {}
+      bool evaluate(int iter) override {
+        if (iter > 0 && !s.evaluate(out))
+          return false;
+        s.assemble();
+        res = s.scaledResidual();
+        best = std::min(best, res);
+        return true;
       }
-      std::vector<double> dz = b_;
-      if (!lu.solve(dz.data()) || !project(dz)) {
-        out.failure = "the initialization's linear solve failed";
-        out.residual = best;
-        return out;
-      }
-      double step = 0;
-      for (int c = 0; c < L_.numCols(); ++c) {
-        int j = L_.var(c);
-        double d = D_[j] * dz[c];
-        if (L_.isX(c) || !diff_[j]) {
-          y_[j] += d;
-          step = std::max(step, std::fabs(dz[c]));
-        } else {
-          yp_[j] += d;
+      bool solveStep(int iter) override {
+        SparseLu lu;
+        if (!lu.factor(s.A_)) {
+          int c = lu.singularColumn();
+          out.failure = fmt::format(
+              "the initialization system is singular {}{}",
+              iter == 0 ? "at the start values" : "at the current iterate",
+              c >= 0 ? fmt::format(" (at '{}')", s.L_.colName(c, s.diff_))
+                     : "");
+          out.residual = best;
+          // Singular from the start: the structure was right but the
+          // numbers are not; the dense path (nearest point) may still find
+          // a point.
+          out.applicable = iter > 0;
+          return false;
         }
+        dz = s.b_;
+        if (!lu.solve(dz.data()) || !s.project(dz)) {
+          out.failure = "the initialization's linear solve failed";
+          out.residual = best;
+          return false;
+        }
+        return true;
       }
-      if (res <= kTol && step <= kTol) {
-        out.ok = true;
-        out.residual = res;
-        out.y = y_;
-        out.yp = yp_;
-        return out;
+      numeric::TrialVerdict tryStep(double) override {
+        step = 0;
+        for (int c = 0; c < s.L_.numCols(); ++c) {
+          int j = s.L_.var(c);
+          double d = s.D_[j] * dz[c];
+          if (s.L_.isX(c) || !s.diff_[j]) {
+            s.y_[j] += d;
+            step = std::max(step, std::fabs(dz[c]));
+          } else {
+            s.yp_[j] += d;
+          }
+        }
+        return numeric::TrialVerdict::Accept;
       }
+      numeric::StepVerdict afterStep(double) override {
+        return res <= kTol && step <= kTol ? numeric::StepVerdict::Converged
+                                           : numeric::StepVerdict::Continue;
+      }
+
+      SparseInit &s;
+      InitOutcome &out;
+      std::vector<double> dz;
+      double res = 0, step = 0, best = INFINITY;
+    } steps(*this, out);
+    switch (numeric::iterateNewton(steps, {kMaxIterations}).end) {
+    case numeric::NewtonEnd::Converged:
+      out.ok = true;
+      out.residual = steps.res;
+      out.y = y_;
+      out.yp = yp_;
+      return out;
+    case numeric::NewtonEnd::IterationLimit:
+      out.residual = steps.best;
+      out.failure = describeFailure(steps.best);
+      return out;
+    default: // the failure is in `out`
+      return out;
     }
-    out.residual = best;
-    out.failure = describeFailure(best);
-    return out;
   }
 
 private:

@@ -1,5 +1,6 @@
 // Gauss-Newton projection onto the constraints (see ConstraintProjection.h).
 #include "integrators/ConstraintProjection.h"
+#include "numeric/NewtonKernel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -96,66 +97,114 @@ Eigen::VectorXd ConstraintProjection::leastNorm(const Eigen::VectorXd &b) const 
   return cod_.solve(rowScale_.cwiseProduct(b));
 }
 
+namespace {
+
+/// What both projections' steps share: the point moved from where it was
+/// by alpha times the step, back there when no damping is accepted, and
+/// the model's code of the last failed evaluation.
+struct ProjectionStep : numeric::NewtonSystem {
+  ProjectionStep(double *y, int n) : yv(y, n) {}
+  void restore() override { yv = from; }
+  /// The code of the projection's end (ConstraintProjection.h).
+  int status(const numeric::NewtonOutcome &out) const {
+    switch (out.end) {
+    case numeric::NewtonEnd::Converged:
+      return 0;
+    case numeric::NewtonEnd::EvaluationFailed:
+    case numeric::NewtonEnd::SolveFailed:
+      return rc;
+    case numeric::NewtonEnd::Stalled:
+      return rc ? rc : ConstraintProjection::kNoConvergence;
+    default:
+      return ConstraintProjection::kNoConvergence;
+    }
+  }
+
+  Eigen::Map<Eigen::VectorXd> yv;
+  Eigen::VectorXd from, step;
+  double size = 0; ///< the step's max norm (nominal units)
+  double norm = 0; ///< max |c| before the step
+  int rc = 0;
+};
+
+} // namespace
+
 int ConstraintProjection::iterate(double t, double *y,
                                   const std::vector<char> &held, double *dy,
                                   int maxIterations, bool damped) {
   const ldae_model &m = ev_.model();
-  Eigen::Map<Eigen::VectorXd> yv(y, n_);
-  Eigen::Map<const Eigen::VectorXd> c(c_.data(), m_);
   if (int rc = m.constraints(t, y, ev_.params(), c_.data()))
     return rc;
-  double last = 0; // the previous correction's size
-  for (int it = 0; it < maxIterations; ++it) {
-    // A start off P_f may be far from it: relinearized at every iterate.
-    // A step's drift is of the order of its local error: the first
-    // linearization serves while each correction is a tenth of the last
-    // (the 50-link chain's output rows spent 40% of the run relinearizing).
-    bool fresh = damped || it == 0;
-    if (fresh)
-      if (int rc = linearize(t, y, held))
-        return rc;
-    Eigen::VectorXd z = leastNorm(-c);
-    double size = z.lpNorm<Eigen::Infinity>();
-    if (!std::isfinite(size))
-      return kNoConvergence;
-    if (!fresh && size > kSimplifiedRate * last) {
-      if (int rc = linearize(t, y, held))
-        return rc;
-      z = leastNorm(-c);
+  struct Steps : ProjectionStep {
+    Steps(ConstraintProjection &p, double t, double *y,
+          const std::vector<char> &held, double *dy, bool damped)
+        : ProjectionStep(y, p.n_), p(p), t(t), y(y), held(held), dy(dy),
+          damped(damped), c(p.c_.data(), p.m_) {}
+    bool evaluate(int it) override {
+      // A start off P_f may be far from it: relinearized at every
+      // iterate. A step's drift is of the order of its local error: the
+      // first linearization serves while each correction is a tenth of
+      // the last (the 50-link chain's output rows spent 40% of the run
+      // relinearizing).
+      fresh = damped || it == 0;
+      return !(fresh && (rc = p.linearize(t, y, held)));
+    }
+    bool solveStep(int) override {
+      Eigen::VectorXd z = p.leastNorm(-c);
       size = z.lpNorm<Eigen::Infinity>();
       if (!std::isfinite(size))
-        return kNoConvergence;
+        return noConvergence();
+      if (!fresh && size > kSimplifiedRate * last) {
+        if ((rc = p.linearize(t, y, held)))
+          return false;
+        z = p.leastNorm(-c);
+        size = z.lpNorm<Eigen::Infinity>();
+        if (!std::isfinite(size))
+          return noConvergence();
+      }
+      last = size;
+      step = p.scale_.cwiseProduct(z);
+      norm = c.lpNorm<Eigen::Infinity>();
+      from = yv;
+      return true;
     }
-    last = size;
-    Eigen::VectorXd step = scale_.cwiseProduct(z);
-    double norm = c.lpNorm<Eigen::Infinity>();
-    Eigen::VectorXd from = yv;
-    double alpha = 1;
-    for (;;) {
+    numeric::TrialVerdict tryStep(double alpha) override {
       yv = from + alpha * step;
-      int rc = m.constraints(t, y, ev_.params(), c_.data());
+      rc = p.ev_.model().constraints(t, y, p.ev_.params(), p.c_.data());
       if (!damped && rc)
-        return rc;
+        return numeric::TrialVerdict::Fail;
       // Full steps near the manifold (quadratic convergence, and a
       // residual already at round-off need not decrease); halved where
       // the linearization overshoots.
       if (!damped || (rc == 0 && (c.lpNorm<Eigen::Infinity>() < norm ||
                                   alpha * size <= kConverged)))
-        break;
-      alpha /= 2;
-      if (alpha < kSmallestDamping) {
-        yv = from;
-        return rc ? rc : kNoConvergence;
-      }
+        return numeric::TrialVerdict::Accept;
+      return numeric::TrialVerdict::Reject;
     }
-    if (dy)
-      Eigen::Map<Eigen::VectorXd>(dy, n_) += alpha * step;
-    double ref =
-        std::max(1.0, yv.cwiseQuotient(scale_).lpNorm<Eigen::Infinity>());
-    if (alpha * size <= kConverged * ref)
-      return 0;
-  }
-  return kNoConvergence;
+    numeric::StepVerdict afterStep(double alpha) override {
+      if (dy)
+        Eigen::Map<Eigen::VectorXd>(dy, p.n_) += alpha * step;
+      double ref = std::max(
+          1.0, yv.cwiseQuotient(p.scale_).lpNorm<Eigen::Infinity>());
+      return alpha * size <= kConverged * ref ? numeric::StepVerdict::Converged
+                                              : numeric::StepVerdict::Continue;
+    }
+    bool noConvergence() {
+      rc = kNoConvergence;
+      return false;
+    }
+
+    ConstraintProjection &p;
+    double t;
+    double *y;
+    const std::vector<char> &held;
+    double *dy;
+    bool damped, fresh = true;
+    Eigen::Map<const Eigen::VectorXd> c;
+    double last = 0; // the previous correction's size
+  } steps(*this, t, y, held, dy, damped);
+  return steps.status(
+      numeric::iterateNewton(steps, {maxIterations, kSmallestDamping}));
 }
 
 int ConstraintProjection::project(double t, double *y, bool holdFixed,
@@ -230,47 +279,62 @@ int ConstraintProjection::projectAlong(double t, double *y,
     return 0;
   ++count_;
   const ldae_model &m = ev_.model();
-  Eigen::Map<Eigen::VectorXd> yv(y, n_);
-  Eigen::Map<const Eigen::VectorXd> c(c_.data(), m_);
   if (int rc = m.constraints(t, y, ev_.params(), c_.data()))
     return rc;
-  const double ref =
-      std::max(1.0, yv.cwiseQuotient(scale_).lpNorm<Eigen::Infinity>());
-  for (int it = 0; it < kMaxStartIterations; ++it) {
-    if (int rc = m.constraint_jacobian(t, y, ev_.params(), jc_.data()))
-      return rc;
-    Eigen::MatrixXd B =
-        Eigen::Map<const Eigen::MatrixXd>(jc_.data(), m_, n_) * T;
-    // Rows equilibrated as in linearize: a rank decision relative to the
-    // largest entry must not drop a constraint for its units.
-    Eigen::VectorXd rs = B.rowwise().lpNorm<Eigen::Infinity>();
-    rs = rs.unaryExpr([](double r) { return r > 0 ? 1 / r : 1.0; });
-    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(
-        rs.asDiagonal() * B);
-    cod.setThreshold(kRankTolerance);
-    Eigen::VectorXd step = T * cod.solve(rs.cwiseProduct(-c));
-    const double size = step.cwiseQuotient(scale_).lpNorm<Eigen::Infinity>();
-    if (!std::isfinite(size))
-      return kNoConvergence;
-    const double norm = c.lpNorm<Eigen::Infinity>();
-    const Eigen::VectorXd from = yv;
-    double alpha = 1;
-    for (;;) {
+  struct Steps : ProjectionStep {
+    Steps(ConstraintProjection &p, double t, double *y,
+          const Eigen::MatrixXd &T)
+        : ProjectionStep(y, p.n_), p(p), t(t), y(y), T(T),
+          c(p.c_.data(), p.m_),
+          ref(std::max(1.0,
+                       yv.cwiseQuotient(p.scale_).lpNorm<Eigen::Infinity>())) {
+    }
+    bool evaluate(int) override {
+      const ldae_model &m = p.ev_.model();
+      return !(rc = m.constraint_jacobian(t, y, p.ev_.params(), p.jc_.data()));
+    }
+    bool solveStep(int) override {
+      Eigen::MatrixXd B =
+          Eigen::Map<const Eigen::MatrixXd>(p.jc_.data(), p.m_, p.n_) * T;
+      // Rows equilibrated as in linearize: a rank decision relative to the
+      // largest entry must not drop a constraint for its units.
+      Eigen::VectorXd rs = B.rowwise().lpNorm<Eigen::Infinity>();
+      rs = rs.unaryExpr([](double r) { return r > 0 ? 1 / r : 1.0; });
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(
+          rs.asDiagonal() * B);
+      cod.setThreshold(kRankTolerance);
+      step = T * cod.solve(rs.cwiseProduct(-c));
+      size = step.cwiseQuotient(p.scale_).lpNorm<Eigen::Infinity>();
+      if (!std::isfinite(size)) {
+        rc = kNoConvergence;
+        return false;
+      }
+      norm = c.lpNorm<Eigen::Infinity>();
+      from = yv;
+      return true;
+    }
+    numeric::TrialVerdict tryStep(double alpha) override {
       yv = from + alpha * step;
-      int rc = m.constraints(t, y, ev_.params(), c_.data());
+      rc = p.ev_.model().constraints(t, y, p.ev_.params(), p.c_.data());
       if (rc == 0 && (c.lpNorm<Eigen::Infinity>() < norm ||
                       alpha * size <= kConverged * ref))
-        break;
-      alpha /= 2;
-      if (alpha < kSmallestDamping) {
-        yv = from;
-        return rc ? rc : kNoConvergence;
-      }
+        return numeric::TrialVerdict::Accept;
+      return numeric::TrialVerdict::Reject;
     }
-    if (alpha * size <= kConverged * ref)
-      return 0;
-  }
-  return kNoConvergence;
+    numeric::StepVerdict afterStep(double alpha) override {
+      return alpha * size <= kConverged * ref ? numeric::StepVerdict::Converged
+                                              : numeric::StepVerdict::Continue;
+    }
+
+    ConstraintProjection &p;
+    double t;
+    double *y;
+    const Eigen::MatrixXd &T;
+    Eigen::Map<const Eigen::VectorXd> c;
+    const double ref;
+  } steps(*this, t, y, T);
+  return steps.status(
+      numeric::iterateNewton(steps, {kMaxStartIterations, kSmallestDamping}));
 }
 
 int ConstraintProjection::projectHolding(double t, double *y,

@@ -6,6 +6,7 @@
 #include "events/Asserts.h"
 #include "results/Columns.h"
 #include "init/ConsistentInit.h"
+#include "init/Initializer.h"
 #include "events/EventLoop.h"
 #include "run/FailureReport.h"
 #include "integrators/Integrator.h"
@@ -14,7 +15,6 @@
 #include "results/RowLog.h"
 #include "ldae/ResultWriter.h"
 #include "events/RootWatch.h"
-#include "init/SparseInit.h"
 #include "model/StateSelection.h"
 #include "events/TimeRoots.h"
 #include "ldae/Simulation.h"
@@ -108,7 +108,9 @@ public:
   /// its domain there or an assert of level error does not hold: the rows
   /// so far are kept, the run stops.
   bool record(double t, const double *y, const double *yp) {
-    std::vector<double> row{t};
+    std::vector<double> row;
+    row.reserve(cols_.size() + 1); // one allocation, no slack per row
+    row.push_back(t);
     const double *src = y;
     if (m_.n_outputs > 0) {
       int rc = m_.outputs(t, y, yp, ev_.params(), out_.data());
@@ -183,126 +185,34 @@ constexpr int kMaxModeSwitchesAtOnce = 100;
 /// is one step). SUNDIALS' own default is 500 per output.
 constexpr long kMaxStepsPerOutput = 100000;
 
-/// Above this many unknowns the general initialization (dense Wong
-/// sequences and least squares on n x 2n matrices, O(n^3)) would need hours
-/// and gigabytes; it fails with a message instead.
-constexpr int kMaxDenseInitUnknowns = 10000;
+/// The initializer's target (Initializer.h): the integrator, its failures
+/// in the run's report.
+class IntegratorInitTarget : public InitTarget {
+public:
+  IntegratorInitTarget(const ModelEval &ev, Integrator &integrator)
+      : ev_(ev), integrator_(integrator) {}
 
-/// Hands a consistent point found by our own Newton iteration to the
-/// integrator.
-bool adoptInitialPoint(const ModelEval &ev, Integrator &integrator, int set,
-                       double t0, const std::vector<double> &y0,
-                       const InitOutcome &init, SimResult &res,
-                       std::ostream *log) {
-  reportMoves(ev, y0, init.y.data(), log);
-  auto re = integrator.reinit(set, t0, init.y.data(), init.yp.data());
-  if (!re) {
-    res.failure = describeSolverError(t0, re.error());
-    return false;
+  std::optional<std::string> restart(int set, double t, const double *y,
+                                     const double *yp) override {
+    auto re = integrator_.reinit(set, t, y, yp);
+    if (!re)
+      return describeSolverError(t, re.error());
+    return std::nullopt;
   }
-  return true;
-}
+  bool completeStart(double tNext) override {
+    return integrator_.completeStart(tNext).ok();
+  }
+  const double *y() const override { return integrator_.y(); }
+  const double *yp() const override { return integrator_.yp(); }
+  std::string describeDomainError(int set, int row, const double *y,
+                                  double t) const override {
+    return describeInitDomainError(ev_, set, row, y, t);
+  }
 
-/// The message of a failed initialization: a domain error in the same form
-/// as one during the run (FailureReport), else the outcome's own text.
-std::string initFailure(const ModelEval &ev, int set, double t0,
-                        const InitOutcome &init) {
-  if (init.domainRow >= 0)
-    return describeInitDomainError(ev, set, init.domainRow, init.domainY.data(),
-                                   t0);
-  return fmt::format("initialization failed at t = {}: {}", t0, init.failure);
-}
-
-/// Finds the initial point from the start vector (y, yp) (IDA holds it);
-/// returns false (with the failure filled in) when there is none.
-bool initializeFrom(const ModelEval &ev, Integrator &integrator, int set,
-                    double t0, double tNext, std::vector<double> y,
-                    std::vector<double> yp, SimResult &res, std::ostream *log) {
-  int n = ev.n();
-  if (isPlainIndexOne(ev, set, t0, y.data(), yp.data())) {
-    if (integrator.completeStart(tNext).ok()) {
-      if (log)
-        *log << "initialization: index-1 structure; algebraic values and "
-                "derivatives solved from the differential start values\n";
-      reportMoves(ev, y, integrator.y(), log);
-      return true;
-    }
-    if (usesSparseInit(ev)) {
-      // The same rule by our own Newton iteration (tighter tolerance, no
-      // dependence on the first output time), still sparse.
-      InitOutcome init = initializeIndexOne(ev, set, t0, y, yp);
-      if (!init.ok && init.domainRow >= 0) {
-        res.failure = initFailure(ev, set, t0, init);
-        return false;
-      }
-      if (init.ok) {
-        if (log)
-          *log << "initialization: IDACalcIC failed; index-1 Newton "
-                  "iteration (sparse) solved the algebraic values and "
-                  "derivatives\n";
-        return adoptInitialPoint(ev, integrator, set, t0, y, init, res, log);
-      }
-    }
-    if (log)
-      *log << "initialization: IDACalcIC failed; trying Newton steps along "
-              "the jump space\n";
-    auto re = integrator.reinit(set, t0, y.data(), yp.data());
-    if (!re) {
-      res.failure = describeSolverError(t0, re.error());
-      return false;
-    }
-  }
-  if (usesSparseInit(ev)) {
-    InitOutcome init = initializeSparse(ev, set, t0, y, yp);
-    if (init.ok) {
-      if (log)
-        *log << fmt::format(
-            "initialization: sparse Newton iteration (KLU) on the residuals, "
-            "fixed values and initial equations; {} differential values "
-            "kept, {} moved by the conditions{}\n",
-            init.kept, init.moved,
-            init.projected
-                ? fmt::format(" ({} in minimum-norm blocks)", init.projected)
-                : std::string());
-      return adoptInitialPoint(ev, integrator, set, t0, y, init, res, log);
-    }
-    if (init.applicable) {
-      res.failure = initFailure(ev, set, t0, init);
-      return false;
-    }
-    if (log)
-      *log << "initialization: the sparse path does not apply (" +
-                  init.failure + "); using the dense one\n";
-    if (n > kMaxDenseInitUnknowns) {
-      res.failure = fmt::format(
-          "initialization failed at t = {}: {}; and the general "
-          "initialization along the jump space is dense: {} unknowns are "
-          "more than it handles ({})",
-          t0, init.failure, n, kMaxDenseInitUnknowns);
-      return false;
-    }
-  }
-  if (n > kMaxDenseInitUnknowns) {
-    res.failure = fmt::format(
-        "initialization failed at t = {}: the model is not plain index-1 at "
-        "the start values (or has initial equations or fixed algebraic "
-        "values), and the general initialization along the jump space is "
-        "dense: {} unknowns are more than it handles ({})",
-        t0, n, kMaxDenseInitUnknowns);
-    return false;
-  }
-  InitOutcome init = initializeAlongJumps(ev, set, t0, y, yp, log);
-  if (!init.ok) {
-    res.failure = initFailure(ev, set, t0, init);
-    return false;
-  }
-  if (log)
-    *log << fmt::format("initialization: start values moved along the jump "
-                        "space T (dimension {}, index {}){}\n",
-                        init.jumpDim, init.index,
-                        init.nearestPoint ? "; nearest point used" : "");
-  return adoptInitialPoint(ev, integrator, set, t0, y, init, res, log);
-}
+private:
+  const ModelEval &ev_;
+  Integrator &integrator_;
+};
 
 /// The re-initialization after an event by the jump rule (the state just
 /// before, reinit values written in, onto the consistent set of the current
@@ -343,150 +253,6 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &integrator, double t,
   y.assign(integrator.y(), integrator.y() + n);
   yp.assign(integrator.yp(), integrator.yp() + n);
   return true;
-}
-
-/// The relations (LDAE_DISCRETE_RELATION) re-evaluated at (t, y, y'),
-/// the frozen values set to them; true when one changed. Along the
-/// continuation a model's if-branches follow the point as in an event
-/// iteration, so that the path is the actual model's and not that of the
-/// branches the start values chose: a limiter whose simplified model is
-/// its lower limit stays on it only if its `x < lower` is re-evaluated
-/// there (the Schmitt trigger of MSL's OpAmps.SignalGenerator).
-bool followRelations(ModelEval &ev, double t, const std::vector<double> &y,
-                     const std::vector<double> &yp) {
-  const ldae_model &m = ev.model();
-  if (m.n_discrete == 0 || !m.event_update || !m.discrete_kind)
-    return false;
-  std::vector<double> out(m.n_discrete + 2 * std::max(m.n_reinit, 0) +
-                          std::max(m.n_terminate, 0));
-  if (m.event_update(t, y.data(), yp.data(), ev.params(), out.data()) != 0)
-    return false;
-  bool changed = false;
-  for (int k = 0; k < m.n_discrete; ++k)
-    if (m.discrete_kind[k] == LDAE_DISCRETE_RELATION &&
-        out[k] != ev.discrete()[k]) {
-      ev.discrete()[k] = ev.pre()[k] = out[k];
-      changed = true;
-    }
-  return changed;
-}
-
-/// The continuation of homotopy(): from the simplified model (lambda = 0),
-/// solved from the start values, to the actual one (lambda = 1), each
-/// initialization starting from the last; the step in lambda grows after a
-/// success and halves after a failure. At each point the relations follow
-/// the solution (followRelations) until they settle.
-bool homotopyContinuation(ModelEval &ev, Integrator &integrator, int set,
-                          double t0, double tNext, int lambda, SimResult &res,
-                          std::ostream *log) {
-  const ldae_model &m = ev.model();
-  int n = ev.n();
-  std::vector<double> y(m.start_y, m.start_y + n),
-      yp(m.start_yp, m.start_yp + n);
-  // Initializes at lambda = l from (y, y'), again from each solution while
-  // the relations it reaches differ from those it was solved with.
-  constexpr int kMaxRelationRounds = 20;
-  // Discrete values and pre() values: a failed step goes back to those of
-  // the last point reached.
-  const int nd2 = 2 * m.n_discrete;
-  std::vector<double> discrete(ev.discrete(), ev.discrete() + nd2);
-  auto from = [&](double l) {
-    ev.setParam(lambda, l);
-    std::copy(discrete.begin(), discrete.end(), ev.discrete());
-    std::vector<double> y0 = y, yp0 = yp;
-    for (int round = 0; round < kMaxRelationRounds; ++round) {
-      res.failure.clear();
-      auto re = integrator.reinit(set, t0, y0.data(), yp0.data());
-      if (!re || !initializeFrom(ev, integrator, set, t0, tNext, y0, yp0, res,
-                                 nullptr))
-        return false;
-      y0.assign(integrator.y(), integrator.y() + n);
-      yp0.assign(integrator.yp(), integrator.yp() + n);
-      if (!followRelations(ev, t0, y0, yp0))
-        return true;
-    }
-    return true;
-  };
-  const std::vector<double> discreteAtStart = discrete;
-  auto giveUp = [&] {
-    ev.setParam(lambda, 1.0);
-    std::copy(discreteAtStart.begin(), discreteAtStart.end(), ev.discrete());
-  };
-  if (!from(0.0)) {
-    giveUp();
-    res.failure = "the simplified model of homotopy() (lambda = 0) does not "
-                  "initialize either: " +
-                  res.failure;
-    return false;
-  }
-  // The last point reached, where a failed step goes back to.
-  auto reached = [&] {
-    y.assign(integrator.y(), integrator.y() + n);
-    yp.assign(integrator.yp(), integrator.yp() + n);
-    discrete.assign(ev.discrete(), ev.discrete() + nd2);
-  };
-  reached();
-  double l = 0, step = 0.1;
-  int steps = 0;
-  while (l < 1) {
-    double next = std::min(1.0, l + step);
-    if (from(next)) {
-      reached();
-      l = next;
-      ++steps;
-      step *= 1.5;
-      continue;
-    }
-    step /= 2;
-    if (step < 1e-6) {
-      giveUp();
-      res.failure = fmt::format("the homotopy continuation stalled at lambda "
-                                "= {:.6g}: ",
-                                l) +
-                    res.failure;
-      return false;
-    }
-  }
-  if (log)
-    *log << fmt::format("initialization: homotopy continuation from the "
-                        "simplified model to the actual one in {} steps\n",
-                        steps);
-  return true;
-}
-
-/// Finds the initial point. A model with homotopy() is initialized by the
-/// continuation from its simplified model first, as OpenModelica does by
-/// default: the simplified model is how the library's author picks the
-/// solution meant among several (the operating point of a Schmitt trigger,
-/// the branch of a diode), and a direct solve from the start values may land
-/// on another one with no sign of it. Where the continuation fails, the
-/// actual model is solved from the start values. Returns false (with the
-/// failure filled in) when there is no initial point.
-bool initialize(ModelEval &ev, Integrator &integrator, int set, double t0,
-                double tNext, SimResult &res, std::ostream *log) {
-  const ldae_model &m = ev.model();
-  int n = ev.n();
-  std::vector<double> y(m.start_y, m.start_y + n),
-      yp(m.start_yp, m.start_yp + n);
-  int lambda = ev.paramIndex(LDAE_HOMOTOPY_LAMBDA);
-  if (lambda < 0 || ev.params()[lambda] != 1.0)
-    return initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, log);
-  if (homotopyContinuation(ev, integrator, set, t0, tNext, lambda, res, log))
-    return true;
-  std::string continuation = res.failure;
-  if (log)
-    *log << "initialization: the homotopy continuation failed; trying the "
-            "actual model from the start values\n";
-  res.failure.clear();
-  auto re = integrator.reinit(set, t0, y.data(), yp.data());
-  if (!re) {
-    res.failure = describeSolverError(t0, re.error());
-    return false;
-  }
-  if (initializeFrom(ev, integrator, set, t0, tNext, y, yp, res, log))
-    return true;
-  res.failure += "\n  homotopy continuation: " + continuation;
-  return false;
 }
 
 /// Restarts the integrator at the current point with state set `to`.
@@ -879,9 +645,14 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   }
   auto init0 = std::chrono::steady_clock::now();
   bool initialized = true;
+  IntegratorInitTarget initTarget(ev, integrator);
   if (fromStart) {
-    initialized =
-        initialize(ev, integrator, set, t, firstOutput(t), res_, o_.log);
+    InitOutcome init =
+        initialize(ev, initTarget, set, t, firstOutput(t),
+                   ContinuationKind::IfModelHasHomotopy, o_.log);
+    initialized = init.ok;
+    if (!init.ok)
+      res_.failure = std::move(init.failure);
   } else {
     // The new mode's model from the point carried over: the jump rule,
     // nothing held (the old model's fixed start values are no conditions
@@ -975,14 +746,15 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
           failure = describeSolverError(te, re.error());
           return false;
         }
-        SimResult again;
-        if (!initializeFrom(ev, integrator, integrator.set(), te,
-                            firstOutput(te), y0, yp0, again, o_.log)) {
-          failure = again.failure;
+        InitOutcome again =
+            initialize(ev, initTarget, integrator.set(), te, firstOutput(te),
+                       ContinuationKind::None, o_.log);
+        if (!again.ok) {
+          failure = std::move(again.failure);
           return false;
         }
-        ye.assign(integrator.y(), integrator.y() + n);
-        ype.assign(integrator.yp(), integrator.yp() + n);
+        ye = std::move(again.y);
+        ype = std::move(again.yp);
         return true;
       };
   // IDA predicts its first step from y': an algebraic unknown that changes
@@ -1275,7 +1047,9 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
             .count();
     if (!res.failure.empty())
       res.status = 3;
-    return res;
+    // Called once, as the run returns: the rows are handed over, not
+    // copied (a run held in memory would need them twice at its peak).
+    return std::move(res);
   };
 
   if (!bound->failure.empty()) {
