@@ -6,6 +6,7 @@
 // ldaec/errors.py carrying that text. The package ldaec (ldaec/*.py)
 // wraps this module; users import that, not this (docs/python.md).
 #include "Compilation.h"
+#include "RunRequest.h"
 
 #include "ldae/ResultWriter.h"
 #include "ldae/Simulation.h"
@@ -46,6 +47,13 @@ struct CompileArgs {
   std::vector<std::string> outputs, overrides;
 };
 
+/// `value`, or a UsageError with the message of `parsed`'s Error.
+template <typename T> T usable(Expected<T> parsed) {
+  if (!parsed)
+    throw StageError{2, "error: " + parsed.error() + "\n"};
+  return std::move(*parsed);
+}
+
 driver::CompileRequest compileRequest(const CompileArgs &a, bool reportOnly) {
   // As open() does: a NUL would cut the path short (compile('osc.lsd\0junk')
   // compiled osc.lsd).
@@ -56,20 +64,12 @@ driver::CompileRequest compileRequest(const CompileArgs &a, bool reportOnly) {
   req.modelName = a.model;
   req.overrides = a.overrides;
   req.outputs = a.outputs;
-  std::optional<passes::Method> method = passes::parseMethod(a.method);
-  if (!method)
-    throw StageError{2, "error: unknown method '" + a.method +
-                            "' (dd, sga, ode or raw)\n"};
-  req.passes.method = *method;
+  driver::CompileChoices choices;
+  choices.method = usable(driver::parseMethodOption(a.method));
+  choices.jit = usable(driver::parseJitOption(a.jit));
+  choices.cacheDir = a.cacheDir;
+  driver::applyCompileChoices(choices, req);
   req.passes.reportOnly = reportOnly;
-  if (a.jit == "auto")
-    req.codegen.jit.reset(); // by the size of the model, as the command
-  else if (a.jit == "on" || a.jit == "off")
-    req.codegen.jit = a.jit == "on";
-  else
-    throw StageError{2, "error: jit must be 'on', 'off' or 'auto', not '" +
-                            a.jit + "'\n"};
-  req.codegen.cacheDir = a.cacheDir;
   return req;
 }
 
@@ -171,18 +171,6 @@ private:
   std::string diagnostics_; // what the command prints for a failure
 };
 
-/// The run options of Model.simulate() (None: the model's experiment
-/// annotation, then the runtime's defaults).
-struct RunArgs {
-  std::optional<double> start, stop, rtol, atol, interval;
-  bool everyStep = false;
-  std::vector<double> times;
-  std::vector<std::string> outputs;
-  std::string integrator = "auto";
-  std::optional<bool> algebraicErrorTest;
-  std::map<std::string, double> params, starts;
-};
-
 /// A model parsed, analyzed and compiled once, run many times.
 class Model {
 public:
@@ -201,48 +189,9 @@ public:
     out_.str("");
   }
 
-  Result simulate(const RunArgs &a) {
-    std::optional<runtime::IntegratorChoice> integrator =
-        runtime::parseIntegrator(a.integrator);
-    if (!integrator)
-      throw StageError{2, "error: unknown integrator '" + a.integrator +
-                              "' (auto, ida, cvode, cvode-bdf, cvode-adams)\n"};
-    // The command line's checks, with its messages (NaN and inf were run).
-    for (const auto &[what, map] :
-         {std::pair{"parameter override", &a.params},
-          std::pair{"start value override", &a.starts}})
-      for (const auto &[name, value] : *map)
-        if (!std::isfinite(value))
-          throw StageError{2, fmt::format("error: invalid {} '{}={}': '{}' is "
-                                          "not a number\n",
-                                          what, name, value, value)};
-    for (const auto &[option, value] :
-         {std::pair{"start", a.start}, std::pair{"stop", a.stop},
-          std::pair{"rtol", a.rtol}, std::pair{"atol", a.atol},
-          std::pair{"interval", a.interval}})
-      if (value && !std::isfinite(*value))
-        throw StageError{2, fmt::format("error: invalid {} '{}': not a finite "
-                                        "number\n",
-                                        option, *value)};
-    for (double t : a.times)
-      if (!std::isfinite(t))
-        throw StageError{2, fmt::format("error: invalid output time '{}': not "
-                                        "a finite number\n",
-                                        t)};
-    runtime::SimOptions o;
-    o.start = a.start;
-    o.stop = a.stop;
-    o.rtol = a.rtol;
-    o.atol = a.atol;
-    o.interval = a.interval;
-    o.everyStep = a.everyStep;
-    o.times = a.times;
-    o.outputs = a.outputs.empty() ? c_->request().passes.outputs : a.outputs;
-    o.integrator = *integrator;
-    o.algebraicErrorTest = a.algebraicErrorTest;
-    o.params = a.params;
-    o.starts = a.starts;
-    o.progress = false;
+  Result simulate(const driver::RunRequest &run) {
+    usable(driver::checkFinite(run));
+    runtime::SimOptions o = driver::runOptions(run, c_->request());
     std::ostringstream log;
     o.log = &log;
     // Ctrl-C: Python's handler only sets a flag, which the run polls (in
@@ -413,13 +362,20 @@ PYBIND11_MODULE(_ldaec, m) {
              std::optional<bool> algebraicErrorTest,
              std::map<std::string, double> params,
              std::map<std::string, double> starts) {
-            RunArgs a{start,     stop,
-                      rtol,      atol,
-                      interval,  everyStep,
-                      std::move(times), std::move(outputs),
-                      std::move(integrator), algebraicErrorTest,
-                      std::move(params), std::move(starts)};
-            return self.simulate(a);
+            return self.simulate(driver::RunRequest{
+                .start = start,
+                .stop = stop,
+                .rtol = rtol,
+                .atol = atol,
+                .interval = interval,
+                .everyStep = everyStep,
+                .times = std::move(times),
+                .outputs = std::move(outputs),
+                .integrator =
+                    usable(driver::parseIntegratorOption(integrator)),
+                .algebraicErrorTest = driver::switchChoice(algebraicErrorTest),
+                .params = std::move(params),
+                .starts = std::move(starts)});
           },
           py::arg("start") = py::none(), py::arg("stop") = py::none(),
           py::arg("rtol") = py::none(), py::arg("atol") = py::none(),
