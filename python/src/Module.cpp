@@ -6,6 +6,7 @@
 // ldaec/errors.py carrying that text. The package ldaec (ldaec/*.py)
 // wraps this module; users import that, not this (docs/python.md).
 #include "Compilation.h"
+#include "OutputSelection.h"
 #include "RunRequest.h"
 
 #include "ldae/ResultWriter.h"
@@ -255,6 +256,11 @@ public:
   std::vector<std::string> outputNames() const {
     return names(abi().output_names, abi().n_outputs);
   }
+  /// The names `patterns` select among outputNames(), for one run.
+  std::vector<std::string>
+  expandOutputs(const std::vector<std::string> &patterns) const {
+    return usable(driver::expandOutputPatterns(patterns, outputNames()));
+  }
   /// {name: start} of the compiled unknowns.
   py::dict starts() const {
     py::dict d;
@@ -391,6 +397,7 @@ PYBIND11_MODULE(_ldaec, m) {
       .def_property_readonly("unknowns", &Model::unknowns)
       .def_property_readonly("starts", &Model::starts)
       .def_property_readonly("output_names", &Model::outputNames)
+      .def("expand_outputs", &Model::expandOutputs, py::arg("patterns"))
       .def_property_readonly("name", &Model::name)
       .def_property_readonly("compile_seconds", &Model::compileSeconds)
       .def_property_readonly("backend", &Model::backend)
