@@ -19,11 +19,6 @@ from . import _ldaec
 from .errors import ModelError, ModelWarning, SimulationError, UsageError
 from .result import Result
 
-# What the runtime says of a name whose new value needs a recompile
-# (runtime/src/model/Rebind.cpp): the fallback when the compiled model's tables
-# do not tell beforehand.
-_NEEDS_RECOMPILE = "without recompiling"
-
 # Models compiled for structural values kept per Model, the least recently
 # used dropped first (a sweep over an array size would otherwise keep one
 # compiled model per member).
@@ -235,9 +230,11 @@ class Model:
                 outputs=compiled.expand_outputs(_name_list(outputs)),
                 params=rt_params, starts=rt_starts, **run)
         except UsageError as e:
-            if _NEEDS_RECOMPILE not in str(e) or not (params or starts):
+            if e.kind != "needs-recompile" or not (params or starts):
                 raise
-            # The tables did not say: everything given becomes an override.
+            # The base model's tables did not say (the model compiled for
+            # the overrides has another structure): everything given
+            # becomes an override.
             extra = sorted([f"{n}={format_value(v)}" for n, v in params.items()]
                            + [f"{n}.start={format_value(v)}"
                               for n, v in starts.items()])

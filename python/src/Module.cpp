@@ -6,6 +6,7 @@
 // ldaec/errors.py carrying that text. The package ldaec (ldaec/*.py)
 // wraps this module; users import that, not this (docs/python.md).
 #include "Compilation.h"
+#include "ErrorKind.h"
 #include "OutputSelection.h"
 #include "RunRequest.h"
 
@@ -34,11 +35,11 @@ using namespace ldae;
 
 namespace {
 
-/// A failure with the exit code the command would give and the text it
-/// would print; translated to ModelError (1), UsageError (2) or
-/// SimulationError (3) of ldaec.errors.
+/// A failure of its kind and the text the command would print; translated
+/// to the exception of ldaec.errors for the kind's exit code (ModelError,
+/// UsageError or SimulationError) carrying the kind as `kind`.
 struct StageError {
-  int code;
+  driver::ErrorKind kind;
   std::string text;
 };
 
@@ -51,7 +52,7 @@ struct CompileArgs {
 /// `value`, or a UsageError with the message of `parsed`'s Error.
 template <typename T> T usable(Expected<T> parsed) {
   if (!parsed)
-    throw StageError{2, "error: " + parsed.error() + "\n"};
+    throw StageError{driver::ErrorKind::BadOption, "error: " + parsed.error() + "\n"};
   return std::move(*parsed);
 }
 
@@ -59,7 +60,7 @@ driver::CompileRequest compileRequest(const CompileArgs &a, bool reportOnly) {
   // As open() does: a NUL would cut the path short (compile('osc.lsd\0junk')
   // compiled osc.lsd).
   if (a.path.find('\0') != std::string::npos)
-    throw StageError{2, "error: the path contains a NUL character\n"};
+    throw StageError{driver::ErrorKind::BadOption, "error: the path contains a NUL character\n"};
   driver::CompileRequest req;
   req.path = a.path;
   req.modelName = a.model;
@@ -156,10 +157,10 @@ public:
   void write(const std::string &path, const std::string &format) const {
     Expected<runtime::ResultFormat> f = runtime::resultFormat(path, format);
     if (!f)
-      throw StageError{2, "error: " + f.error() + "\n"};
+      throw StageError{driver::ErrorKind::BadOption, "error: " + f.error() + "\n"};
     Expected<bool> ok = runtime::writeResult(r_, path, *f);
     if (!ok)
-      throw StageError{1, "error: " + ok.error() + "\n"};
+      throw StageError{driver::ErrorKind::ModelError, "error: " + ok.error() + "\n"};
   }
 
   const runtime::SimResult &raw() const { return r_; }
@@ -185,7 +186,7 @@ public:
       ok = c_->parse() && c_->analyze() && c_->compile();
     }
     if (!ok)
-      throw StageError{c_->exitCode() ? c_->exitCode() : 1, out_.str()};
+      throw StageError{driver::errorKindOfExitCode(c_->exitCode()), out_.str()};
     warnings_ = out_.str();
     out_.str("");
   }
@@ -218,8 +219,11 @@ public:
     if (signalled)
       throw py::error_already_set(); // the KeyboardInterrupt Python set
     if (!*r)
-      throw StageError{
-          2, diagnosticText(*c_, DiagId::ErrSimulationOptions, r->error())};
+      throw StageError{driver::needsRecompile(abi(), run)
+                           ? driver::ErrorKind::NeedsRecompile
+                           : driver::ErrorKind::BadOption,
+                       diagnosticText(*c_, DiagId::ErrSimulationOptions,
+                                      r->error())};
     std::string failure =
         (*r)->status != 0
             ? diagnosticText(*c_, DiagId::ErrSimulationFailed, (*r)->failure)
@@ -293,7 +297,7 @@ py::tuple analyze(const CompileArgs &args) {
   {
     py::gil_scoped_release release;
     if (!c.parse())
-      throw StageError{c.exitCode() ? c.exitCode() : 1, out.str()};
+      throw StageError{driver::errorKindOfExitCode(c.exitCode()), out.str()};
     ok = c.analyze();
     json = passes::analysisToJson(c.analysis()).dump();
   }
@@ -322,9 +326,11 @@ PYBIND11_MODULE(_ldaec, m) {
     } catch (const StageError &e) {
       static const char *classes[] = {"ModelError", "ModelError",
                                       "UsageError", "SimulationError"};
-      const char *cls = classes[e.code >= 1 && e.code <= 3 ? e.code : 1];
+      const char *cls = classes[driver::exitCode(e.kind)];
       py::object type = py::module_::import("ldaec.errors").attr(cls);
-      PyErr_SetObject(type.ptr(), py::str(e.text).ptr());
+      py::object error = type(py::str(e.text));
+      error.attr("kind") = driver::errorKindName(e.kind);
+      PyErr_SetObject(type.ptr(), error.ptr());
     }
   });
 
