@@ -6,6 +6,7 @@
 // ldaec/errors.py carrying that text. The package ldaec (ldaec/*.py)
 // wraps this module; users import that, not this (docs/python.md).
 #include "Compilation.h"
+#include "RowTable.h"
 #include "ErrorKind.h"
 #include "OutputSelection.h"
 #include "RunRequest.h"
@@ -22,6 +23,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cassert>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -85,25 +87,30 @@ std::string diagnosticText(driver::Compilation &c, DiagId id,
   return out.str();
 }
 
-/// One run's outcome: the runtime's table kept for writing, its values as
-/// one (rows x columns) array for numpy.
+/// One run's outcome: the runtime's result without its rows, which are in
+/// `table` (handed to numpy as a view, to the writers as rows).
 class Result {
 public:
-  Result(runtime::SimResult r, std::string log, std::string diagnostics)
-      : r_(std::move(r)), log_(std::move(log)),
+  Result(runtime::SimResult r, std::unique_ptr<python::RowTable> table,
+         std::string log, std::string diagnostics)
+      : r_(std::move(r)), table_(std::move(table)), log_(std::move(log)),
         diagnostics_(std::move(diagnostics)) {}
 
+  /// The (rows x columns) values, a view of the table's block that keeps
+  /// it alive.
   py::array_t<double> data() const {
-    py::ssize_t rows = static_cast<py::ssize_t>(r_.rows.size());
+    py::ssize_t rows = static_cast<py::ssize_t>(table_->rows());
     py::ssize_t cols = static_cast<py::ssize_t>(r_.columns.size());
-    py::array_t<double> a({rows, cols});
-    auto v = a.mutable_unchecked<2>();
-    for (py::ssize_t i = 0; i < rows; ++i) {
-      const std::vector<double> &row = r_.rows[i];
-      for (py::ssize_t j = 0; j < cols; ++j)
-        v(i, j) = j < static_cast<py::ssize_t>(row.size()) ? row[j] : NAN;
-    }
-    return a;
+    if (rows == 0)
+      return py::array_t<double>(std::vector<py::ssize_t>{0, cols});
+    // The sink's header is the result's (RowSink::begin).
+    assert(table_->columns() == r_.columns.size());
+    auto *owner = new std::shared_ptr<std::vector<double>>(table_->values());
+    py::capsule keep(owner, [](void *p) {
+      delete static_cast<std::shared_ptr<std::vector<double>> *>(p);
+    });
+    return py::array_t<double>(std::vector<py::ssize_t>{rows, cols},
+                               (*owner)->data(), keep);
   }
 
   py::dict stats() const {
@@ -158,7 +165,9 @@ public:
     Expected<runtime::ResultFormat> f = runtime::resultFormat(path, format);
     if (!f)
       throw StageError{driver::ErrorKind::BadOption, "error: " + f.error() + "\n"};
-    Expected<bool> ok = runtime::writeResult(r_, path, *f);
+    runtime::SimResult whole = r_;
+    whole.rows = table_->rowVectors();
+    Expected<bool> ok = runtime::writeResult(whole, path, *f);
     if (!ok)
       throw StageError{driver::ErrorKind::ModelError, "error: " + ok.error() + "\n"};
   }
@@ -169,6 +178,7 @@ public:
 
 private:
   runtime::SimResult r_;
+  std::unique_ptr<python::RowTable> table_;
   std::string log_;         // initialization reports, warnings
   std::string diagnostics_; // what the command prints for a failure
 };
@@ -196,6 +206,8 @@ public:
     runtime::SimOptions o = driver::runOptions(run, c_->request());
     std::ostringstream log;
     o.log = &log;
+    auto table = std::make_unique<python::RowTable>();
+    o.rowSink = table.get();
     // Ctrl-C: Python's handler only sets a flag, which the run polls (in
     // the main thread, every 50 ms of the run, taking the GIL for it): the
     // run stops within a step and KeyboardInterrupt is raised; the result
@@ -228,7 +240,7 @@ public:
         (*r)->status != 0
             ? diagnosticText(*c_, DiagId::ErrSimulationFailed, (*r)->failure)
             : std::string();
-    return Result(std::move(**r), log.str(), failure);
+    return Result(std::move(**r), std::move(table), log.str(), failure);
   }
 
   const ldae_model &abi() const { return c_->compiled().model(); }
