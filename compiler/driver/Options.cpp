@@ -17,6 +17,20 @@ std::vector<std::string> integratorSpellings() {
   return names;
 }
 
+/// An option taking one word of `table`: checked against the words
+/// first, so the conversion to `target` cannot fail.
+template <typename E, size_t N>
+void addChoice(CLI::App &app, const std::string &name, E &target,
+               const Spelling<E> (&table)[N], const std::string &help) {
+  app.add_option_function<std::string>(
+         name,
+         [&target, &table](const std::string &word) {
+           target = *parseSpelling(table, word);
+         },
+         help)
+      ->check(CLI::IsMember(spellings(table)));
+}
+
 } // namespace
 
 void defineOptions(CLI::App &app, Options &o) {
@@ -49,8 +63,8 @@ void defineOptions(CLI::App &app, Options &o) {
   app.add_flag("--simulate", o.simulate,
                "integrate the model, write the results (CSV, or .mat by -o's "
                "extension)");
-  app.add_option("--emit", o.emit, "print an intermediate form")
-      ->check(CLI::IsMember({"flat", "reduced", "llvm", "c"}));
+  addChoice(app, "--emit", o.emit, kEmitSpellings,
+            "print an intermediate form");
   app.add_flag("--main", o.emitMain,
                "with --emit c: add a main() that runs the model as --simulate "
                "does (links libldaert, docs/embedding-c.md)");
@@ -64,31 +78,38 @@ void defineOptions(CLI::App &app, Options &o) {
                  "extension: csv or mat (mat needs -o FILE)")
       ->check(CLI::IsMember({"csv", "mat"}));
 
-  app.add_option("--start", o.startTime, "start time");
-  app.add_option("--stop", o.stopTime, "stop time");
-  app.add_option("--rtol", o.rtol, "relative tolerance");
-  app.add_option("--atol", o.atol, "absolute tolerance (scaled by nominal)");
-  app.add_option("--interval", o.interval, "output interval");
-  app.add_flag("--every-step", o.everyStep, "output at every solver step");
-  app.add_option("--output-times", o.outputTimes,
+  app.add_option("--start", o.run.start, "start time");
+  app.add_option("--stop", o.run.stop, "stop time");
+  app.add_option("--rtol", o.run.rtol, "relative tolerance");
+  app.add_option("--atol", o.run.atol,
+                 "absolute tolerance (scaled by nominal)");
+  app.add_option("--interval", o.run.interval, "output interval");
+  app.add_flag("--every-step", o.run.everyStep,
+               "output at every solver step");
+  app.add_option("--output-times", o.run.times,
                  "output at exactly these increasing times instead of the "
                  "interval grid; the last is the default stop time: "
                  "--output-times 0.4,4,40")
       ->delimiter(',');
-  app.add_option("--algebraic-error-test", o.algebraicErrorTest,
-                 "on: algebraic unknowns in IDA's local error test; off: "
-                 "left out; auto (default): on for index-1 systems (every "
-                 "reduced one), off for a higher-index system as written "
-                 "(--method raw)")
-      ->check(CLI::IsMember({"on", "off", "auto"}));
-  app.add_option("--integrator", o.integrator,
-                 "auto (default): CVODE (BDF) for an explicit ODE, IDA "
-                 "for a DAE and for an explicit ODE whose computed "
-                 "variables stay in the error test (docs/runtime.md), and "
-                 "for --method sga|ode CVODE Adams moving "
-                 "to BDF when the model turns out stiff; ida; cvode (BDF) "
-                 "or cvode-bdf; cvode-adams (non-stiff); CVODE needs the "
-                 "ODE form (--analyze shows it) or --method sga|ode")
+  addChoice(app, "--algebraic-error-test", o.run.algebraicErrorTest,
+            kSwitchSpellings,
+            "on: algebraic unknowns in IDA's local error test; off: "
+            "left out; auto (default): on for index-1 systems (every "
+            "reduced one), off for a higher-index system as written "
+            "(--method raw)");
+  // Checked against the spellings first, so the conversion cannot fail.
+  app.add_option_function<std::string>(
+         "--integrator",
+         [&o](const std::string &i) {
+           o.run.integrator = *runtime::parseIntegrator(i);
+         },
+         "auto (default): CVODE (BDF) for an explicit ODE, IDA "
+         "for a DAE and for an explicit ODE whose computed "
+         "variables stay in the error test (docs/runtime.md), and "
+         "for --method sga|ode CVODE Adams moving "
+         "to BDF when the model turns out stiff; ida; cvode (BDF) "
+         "or cvode-bdf; cvode-adams (non-stiff); CVODE needs the "
+         "ODE form (--analyze shows it) or --method sga|ode")
       ->check(CLI::IsMember(integratorSpellings()));
   // Checked against the spellings first, so the conversion cannot fail.
   app.add_option_function<std::string>(
@@ -102,10 +123,15 @@ void defineOptions(CLI::App &app, Options &o) {
          "written)")
       ->check(CLI::IsMember(std::vector<std::string>(
           passes::kMethodSpellings.begin(), passes::kMethodSpellings.end())));
-  app.add_option("--causalize", o.causalize,
-                 "on: the integrator gets the states and the tearing "
-                 "variables only, the rest is computed in BLT order; off: "
-                 "every unknown of the index-1 system goes to the integrator")
+  app.add_option_function<std::string>(
+         "--causalize",
+         [&o](const std::string &c) {
+           o.causalize =
+               parseSpelling(kSwitchSpellings, c) == SwitchChoice::On;
+         },
+         "on: the integrator gets the states and the tearing "
+         "variables only, the rest is computed in BLT order; off: "
+         "every unknown of the index-1 system goes to the integrator")
       ->check(CLI::IsMember({"on", "off"}));
   app.add_option("--outputs", o.outputs,
                  "comma-separated variables and parameters to output, or "
@@ -132,13 +158,12 @@ void defineOptions(CLI::App &app, Options &o) {
                "roots, events, time events, mode switches, jumps, the backend and "
                "the object cache (hit or miss)");
   app.add_flag("--no-progress", o.noProgress, "never show a progress bar");
-  app.add_option("--jit", o.jit,
-                 "on: compile with the LLVM JIT; off: run the plan "
-                 "interpreter (no LLVM loaded); auto (default): the "
-                 "interpreter for small models, the JIT above " +
-                     std::to_string(codegen::kAutoJitWork) +
-                     " operations per evaluation (docs/codegen.md)")
-      ->check(CLI::IsMember({"on", "off", "auto"}));
+  addChoice(app, "--jit", o.jit, kSwitchSpellings,
+            "on: compile with the LLVM JIT; off: run the plan "
+            "interpreter (no LLVM loaded); auto (default): the "
+            "interpreter for small models, the JIT above " +
+                std::to_string(codegen::kAutoJitWork) +
+                " operations per evaluation (docs/codegen.md)");
 
   app.add_flag("--time-passes", o.timePasses, "time every stage and pass");
   app.add_flag("--compile-only", o.compileOnly,

@@ -1,6 +1,9 @@
 // The `ldaec` command line: every option, parsed by CLI11 into one struct.
 #pragma once
 
+#include "RunRequest.h"
+
+#include "ldae/Simulation.h"
 #include "passes/Method.h"
 
 #include <optional>
@@ -26,20 +29,18 @@ struct Options {
   bool analyze = false;                   // --analyze
   bool json = false;                      // --json
   bool simulate = false;                  // --simulate
-  std::string emit;                       // --emit flat|reduced|llvm|c
+  EmitKind emit = EmitKind::None;         // --emit flat|reduced|llvm|c
   bool emitMain = false;                  // --main (with --emit c)
   std::string outputFile;                 // -o
-  std::optional<double> startTime, stopTime, rtol, atol, interval;
+  /// --start, --stop, --rtol, --atol, --interval, --every-step,
+  /// --output-times, --algebraic-error-test, --integrator.
+  RunRequest run;
   passes::Method method = passes::Method::DummyDerivatives; // --method
-  std::string causalize = "on";           // --causalize on|off
+  bool causalize = true;                  // --causalize on|off
   std::string outputs;                    // --outputs x,y
   std::string plotFile;                   // --plot out.svg|png
   bool stats = false;                     // --stats
-  bool everyStep = false;                 // --every-step
-  std::vector<double> outputTimes;        // --output-times 0.4,4,40
-  std::string algebraicErrorTest = "auto";// --algebraic-error-test on|off|auto
-  std::string integrator = "auto";        // --integrator
-  std::string jit = "auto";               // --jit on|off|auto
+  SwitchChoice jit = SwitchChoice::Auto;  // --jit on|off|auto
   bool timePasses = false;                // --time-passes
   bool compileOnly = false;               // --compile-only
   std::vector<std::string> printAfter;    // --print-after PASS

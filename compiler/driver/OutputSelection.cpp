@@ -121,4 +121,30 @@ selectOutputs(const ir::Model &model, const std::vector<std::string> &patterns,
   return out;
 }
 
+Expected<std::vector<std::string>>
+expandOutputPatterns(const std::vector<std::string> &patterns,
+                     const std::vector<std::string> &available) {
+  std::vector<std::string> chosen;
+  auto choose = [&chosen](const std::string &name) {
+    if (std::find(chosen.begin(), chosen.end(), name) == chosen.end())
+      chosen.push_back(name);
+  };
+  for (const std::string &pattern : patterns) {
+    if (!isGlob(pattern)) {
+      choose(pattern);
+      continue;
+    }
+    bool any = false;
+    for (const std::string &name : available)
+      if (globMatch(pattern, name)) {
+        choose(name);
+        any = true;
+      }
+    if (!any)
+      return Error{"output pattern '" + pattern +
+                   "' selects no variable of the compiled model"};
+  }
+  return chosen;
+}
+
 } // namespace ldae::driver

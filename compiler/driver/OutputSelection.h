@@ -1,8 +1,10 @@
 // Which variables a run reports (--outputs, the Python module's
-// `outputs=`): names and patterns expanded against the flat model.
+// `outputs=`): names and patterns expanded against the flat model, or
+// against the names a compiled model reports (one run's `outputs=`).
 #pragma once
 
 #include "ir/Model.h"
+#include "support/Expected.h"
 #include "support/Diagnostics.h"
 
 #include <optional>
@@ -23,5 +25,14 @@ namespace ldae::driver {
 std::optional<std::vector<std::string>>
 selectOutputs(const ir::Model &model, const std::vector<std::string> &patterns,
               DiagnosticEngine &diags);
+
+/// The names `patterns` select among `available`, the names a compiled
+/// model reports in its order (the Python module's `outputs=` of one run):
+/// a glob its matches in that order, a plain name itself (the runtime
+/// names an unknown one, with close names), each name once, in the order
+/// of the patterns. An Error for a glob that selects nothing.
+Expected<std::vector<std::string>>
+expandOutputPatterns(const std::vector<std::string> &patterns,
+                     const std::vector<std::string> &available);
 
 } // namespace ldae::driver

@@ -132,16 +132,16 @@ bool checkNumber(const char *option, const std::optional<double> &v,
 }
 
 bool checkTimes(const Options &o, DiagnosticEngine &diags) {
-  bool ok = checkNumber("--start", o.startTime, true, false, diags) &
-            checkNumber("--stop", o.stopTime, true, false, diags) &
-            checkNumber("--rtol", o.rtol, false, true, diags) &
-            checkNumber("--atol", o.atol, false, true, diags) &
-            checkNumber("--interval", o.interval, false, true, diags);
-  for (size_t i = 0; ok && i < o.outputTimes.size(); ++i) {
-    ok = checkNumber("--output-times", o.outputTimes[i], true, false, diags);
-    if (ok && i > 0 && !(o.outputTimes[i] > o.outputTimes[i - 1])) {
+  bool ok = checkNumber("--start", o.run.start, true, false, diags) &
+            checkNumber("--stop", o.run.stop, true, false, diags) &
+            checkNumber("--rtol", o.run.rtol, false, true, diags) &
+            checkNumber("--atol", o.run.atol, false, true, diags) &
+            checkNumber("--interval", o.run.interval, false, true, diags);
+  for (size_t i = 0; ok && i < o.run.times.size(); ++i) {
+    ok = checkNumber("--output-times", o.run.times[i], true, false, diags);
+    if (ok && i > 0 && !(o.run.times[i] > o.run.times[i - 1])) {
       diags.report(DiagId::ErrOutputTimesOrder, SourceLoc{},
-                   {text(o.outputTimes[i]), text(o.outputTimes[i - 1])});
+                   {text(o.run.times[i]), text(o.run.times[i - 1])});
       ok = false;
     }
   }
@@ -149,18 +149,18 @@ bool checkTimes(const Options &o, DiagnosticEngine &diags) {
     return false;
   // The model's experiment annotation may set what is not given here; the
   // runtime checks the resolved values again.
-  double start = o.startTime.value_or(0.0);
-  if (o.stopTime && *o.stopTime < start) {
+  double start = o.run.start.value_or(0.0);
+  if (o.run.stop && *o.run.stop < start) {
     diags.report(DiagId::ErrStopBeforeStart, SourceLoc{},
-                 {text(*o.stopTime), text(start)});
+                 {text(*o.run.stop), text(start)});
     return false;
   }
-  if (o.stopTime && o.interval && *o.stopTime > start &&
-      runtime::outputRows(start, *o.stopTime, *o.interval) >
+  if (o.run.stop && o.run.interval && *o.run.stop > start &&
+      runtime::outputRows(start, *o.run.stop, *o.run.interval) >
           runtime::kMaxOutputRows) {
     diags.report(
         DiagId::ErrTooManyRows, SourceLoc{},
-        {runtime::tooManyRowsMessage(start, *o.stopTime, *o.interval)});
+        {runtime::tooManyRowsMessage(start, *o.run.stop, *o.run.interval)});
     return false;
   }
   return true;
@@ -181,7 +181,7 @@ bool checkModes(const CLI::App &app, const Options &o,
                  {"--analyze", "--simulate"});
     return false;
   }
-  if (!o.emit.empty() && (o.simulate || o.analyze)) {
+  if (o.emit != EmitKind::None && (o.simulate || o.analyze)) {
     diags.report(DiagId::ErrModesConflict, SourceLoc{},
                  {"--emit", o.simulate ? "--simulate" : "--analyze"});
     return false;
@@ -206,13 +206,14 @@ bool checkModes(const CLI::App &app, const Options &o,
       {"--outputs", "--outputs", true, true, false},
       {"-o", "-o", true, true, false},
   };
-  bool emitsModel = !o.emit.empty() && o.emit != "flat";
+  bool emitsModel = o.emit != EmitKind::None && o.emit != EmitKind::Flat;
   for (const ModeOption &m : table) {
     if (app.count(m.name) == 0)
       continue;
-    bool used = (m.simulate && o.simulate) ||
-                (m.emit && (std::string(m.name) == "-o" ? !o.emit.empty()
-                                                        : emitsModel));
+    bool used =
+        (m.simulate && o.simulate) ||
+        (m.emit &&
+         (std::string(m.name) == "-o" ? o.emit != EmitKind::None : emitsModel));
     if (used)
       continue;
     std::string modes = m.emit ? (std::string(m.name) == "-o"
@@ -223,7 +224,7 @@ bool checkModes(const CLI::App &app, const Options &o,
     diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{}, {m.shown, modes});
     ok = false;
   }
-  if (o.emit == "flat")
+  if (o.emit == EmitKind::Flat)
     // The flat model is printed before any pass runs.
     for (const char *name : {"--print-after", "--method"})
       if (app.count(name)) {
@@ -245,7 +246,7 @@ bool checkModes(const CLI::App &app, const Options &o,
     diags.report(DiagId::ErrModesConflict, SourceLoc{}, {"--sweep", "--plot"});
     ok = false;
   }
-  if (o.emitMain && o.emit != "c") {
+  if (o.emitMain && o.emit != EmitKind::C) {
     diags.report(DiagId::ErrOptionNeedsMode, SourceLoc{},
                  {"--main", "'--emit c'"});
     ok = false;

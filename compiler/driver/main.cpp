@@ -6,6 +6,7 @@
 // out of memory), 2 bad command line, 3 numerical failure during
 // simulation.
 #include "Options.h"
+#include "RunRequest.h"
 #include "Validate.h"
 
 #include "Compilation.h"
@@ -69,45 +70,23 @@ static driver::CompileRequest compileRequest(const driver::Options &opts) {
     for (std::string &o : driver::splitOutputs(list))
       req.overrides.push_back(std::move(o));
   req.outputs = driver::splitOutputs(opts.outputs);
+  driver::CompileChoices choices;
+  choices.method = opts.method;
+  choices.jit = opts.jit;
+  if (opts.simulate && !opts.noCache)
+    choices.cacheDir = driver::defaultCacheDir();
+  driver::applyCompileChoices(choices, req);
   passes::PipelineOptions &p = req.passes;
-  p.method = opts.method;
   // `--emit reduced` shows the index-1 system index reduction built; the
   // causal form has no lsd text of its own (its assignments are folded
   // into the residuals).
-  p.causalize = opts.causalize == "on" && opts.emit != "reduced";
+  p.causalize = opts.causalize && opts.emit != driver::EmitKind::Reduced;
   p.timePasses = opts.timePasses;
-  p.reportOnly = opts.analyze || (!opts.simulate && opts.emit.empty());
+  p.reportOnly = opts.analyze ||
+                 (!opts.simulate && opts.emit == driver::EmitKind::None);
   p.printAfter = opts.printAfter;
   p.log = &std::cerr;
-  if (opts.jit == "auto")
-    req.codegen.jit.reset(); // by the size of the model
-  else
-    req.codegen.jit = opts.jit == "on";
-  if (opts.simulate && !opts.noCache)
-    req.codegen.cacheDir = driver::defaultCacheDir();
   return req;
-}
-
-/// The run part of the command line.
-static runtime::SimOptions simOptions(const driver::Options &opts,
-                                      const driver::CompileRequest &req) {
-  runtime::SimOptions sim;
-  sim.start = opts.startTime;
-  sim.stop = opts.stopTime;
-  sim.rtol = opts.rtol;
-  sim.atol = opts.atol;
-  sim.interval = opts.interval;
-  sim.everyStep = opts.everyStep;
-  sim.times = opts.outputTimes;
-  if (opts.algebraicErrorTest != "auto")
-    sim.algebraicErrorTest = opts.algebraicErrorTest == "on";
-  // Checked against the spellings on the command line.
-  sim.integrator = *runtime::parseIntegrator(opts.integrator);
-  // The selected names in model order; none: the runtime's default columns.
-  sim.outputs = req.passes.outputs;
-  sim.progress = !opts.noProgress && isatty(STDERR_FILENO);
-  sim.log = &std::cerr;
-  return sim;
 }
 
 /// `--sweep`: one run per member of the grid, on --jobs threads.
@@ -179,7 +158,7 @@ static int run(int argc, char **argv) {
   // 1. Parse, check and flatten the model; expand --outputs.
   if (!c.parse())
     return c.exitCode();
-  if (opts.emit == "flat")
+  if (opts.emit == driver::EmitKind::Flat)
     return writeOutput(opts.outputFile, c.model().print()) ? 0 : 1;
 
   // 2. Structural analysis, index reduction, initialization (passes).
@@ -195,23 +174,25 @@ static int run(int argc, char **argv) {
   }
   if (!analyzed || !analysis.system)
     return 1;
-  if (opts.emit == "reduced")
+  if (opts.emit == driver::EmitKind::Reduced)
     return writeOutput(opts.outputFile, passes::printReduced(*analysis.system))
                ? 0
                : 1;
 
   // 3. Code generation: text, or a runnable model (JIT or interpreter).
-  if (opts.emit == "c" && !analysis.system->events.modeDiscrete.empty()) {
+  if (opts.emit == driver::EmitKind::C &&
+      !analysis.system->events.modeDiscrete.empty()) {
     c.diagnostics().report(DiagId::ErrVariableStructureC,
                            c.variableStructure().value_or(SourceLoc{}));
     c.diagnostics().flush(std::cerr);
     return 1;
   }
-  if (opts.emit == "llvm" || opts.emit == "c") {
+  if (opts.emit == driver::EmitKind::Llvm ||
+      opts.emit == driver::EmitKind::C) {
     codegen::CodegenOptions cg = c.request().codegen;
     cg.sources = &c.sources();
     Expected<std::string> text =
-        opts.emit == "llvm"
+        opts.emit == driver::EmitKind::Llvm
             ? codegen::emitLlvm(*analysis.system, cg)
             : codegen::emitC(*analysis.system, opts.emitMain, cg);
     if (!text)
@@ -230,7 +211,10 @@ static int run(int argc, char **argv) {
     return 0; // ready to integrate: what compile-time benchmarks measure
 
   // 4. Integrate and write the results.
-  runtime::SimOptions sim = simOptions(opts, c.request());
+  driver::RunRequest run = opts.run;
+  run.progress = !opts.noProgress && isatty(STDERR_FILENO);
+  runtime::SimOptions sim = driver::runOptions(run, c.request());
+  sim.log = &std::cerr;
   // Checked on the command line (exit 2 before any work).
   runtime::ResultFormat format =
       *runtime::resultFormat(opts.outputFile, opts.format);

@@ -10,7 +10,6 @@ compiled with overrides (``--override`` of the command), kept per set of
 overrides, and the result says ``recompiled``.
 """
 import collections
-import fnmatch
 import json
 import os
 import threading
@@ -19,11 +18,6 @@ import warnings
 from . import _ldaec
 from .errors import ModelError, ModelWarning, SimulationError, UsageError
 from .result import Result
-
-# What the runtime says of a name whose new value needs a recompile
-# (runtime/src/model/Rebind.cpp): the fallback when the compiled model's tables
-# do not tell beforehand.
-_NEEDS_RECOMPILE = "without recompiling"
 
 # Models compiled for structural values kept per Model, the least recently
 # used dropped first (a sweep over an array size would otherwise keep one
@@ -42,13 +36,22 @@ def format_value(value):
     return repr(float(value))
 
 
+def _name_list(names):
+    """A comma-separated string or a list of names as a list."""
+    if not names:
+        return []
+    if isinstance(names, str):
+        return [n.strip() for n in names.split(",") if n.strip()]
+    return list(names)
+
+
 def override_list(overrides):
     """``{"R": 10, "x.start": 1}``, ``["R=10", ...]`` or ``"R=10,x.start=1"``
     as the command's ``name=value`` strings."""
     if not overrides:
         return []
     if isinstance(overrides, str):
-        return [o.strip() for o in overrides.split(",") if o.strip()]
+        return _name_list(overrides)
     if isinstance(overrides, dict):
         return [f"{k}={format_value(v)}" for k, v in overrides.items()]
     return [str(o) for o in overrides]
@@ -72,28 +75,6 @@ def _cache_dir(cache):
     return os.fspath(cache)
 
 
-def expand_outputs(patterns, available):
-    """Names and globs (``C[*].v``, ``r1.*``) against the names a compiled
-    model reports, in its order; plain names pass unchanged (the runtime
-    says when one is unknown, naming close ones)."""
-    if not patterns:
-        return []
-    if isinstance(patterns, str):
-        patterns = [p.strip() for p in patterns.split(",") if p.strip()]
-    chosen = []
-    for pattern in patterns:
-        if any(ch in pattern for ch in "*?"):
-            hits = [n for n in available
-                    if fnmatch.fnmatchcase(n, pattern.replace("[", "[[]"))]
-            if not hits:
-                raise UsageError(f"error: output pattern '{pattern}' selects "
-                                 "no variable of the compiled model\n")
-        else:
-            hits = [pattern]
-        chosen += [n for n in hits if n not in chosen]
-    return chosen
-
-
 class Model:
     """What ``ldaec.compile`` returns; see the module's doc string."""
 
@@ -102,9 +83,7 @@ class Model:
         self.path = os.fspath(path)
         self.model_name = model or ""
         self.method = method
-        if isinstance(outputs, str):
-            outputs = [o.strip() for o in outputs.split(",") if o.strip()]
-        self.outputs = list(outputs or [])
+        self.outputs = _name_list(outputs)
         self.jit = _jit_spelling(jit)
         self.overrides = override_list(overrides)
         self.cache_dir = _cache_dir(cache)
@@ -248,18 +227,20 @@ class Model:
         compiled = self._base if not extra else self._model_for(extra)[0]
         try:
             raw = compiled.simulate(
-                outputs=expand_outputs(outputs, compiled.output_names),
+                outputs=compiled.expand_outputs(_name_list(outputs)),
                 params=rt_params, starts=rt_starts, **run)
         except UsageError as e:
-            if _NEEDS_RECOMPILE not in str(e) or not (params or starts):
+            if e.kind != "needs-recompile" or not (params or starts):
                 raise
-            # The tables did not say: everything given becomes an override.
+            # The base model's tables did not say (the model compiled for
+            # the overrides has another structure): everything given
+            # becomes an override.
             extra = sorted([f"{n}={format_value(v)}" for n, v in params.items()]
                            + [f"{n}.start={format_value(v)}"
                               for n, v in starts.items()])
             compiled = self._model_for(extra)[0]
             raw = compiled.simulate(
-                outputs=expand_outputs(outputs, compiled.output_names), **run)
+                outputs=compiled.expand_outputs(_name_list(outputs)), **run)
         states = None if (self.outputs or outputs) else compiled.unknowns
         result = Result(raw, recompiled=compiled is not self._base,
                         states=states)

@@ -6,6 +6,10 @@
 // ldaec/errors.py carrying that text. The package ldaec (ldaec/*.py)
 // wraps this module; users import that, not this (docs/python.md).
 #include "Compilation.h"
+#include "RowTable.h"
+#include "ErrorKind.h"
+#include "OutputSelection.h"
+#include "RunRequest.h"
 
 #include "ldae/ResultWriter.h"
 #include "ldae/Simulation.h"
@@ -19,6 +23,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cassert>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -32,11 +37,11 @@ using namespace ldae;
 
 namespace {
 
-/// A failure with the exit code the command would give and the text it
-/// would print; translated to ModelError (1), UsageError (2) or
-/// SimulationError (3) of ldaec.errors.
+/// A failure of its kind and the text the command would print; translated
+/// to the exception of ldaec.errors for the kind's exit code (ModelError,
+/// UsageError or SimulationError) carrying the kind as `kind`.
 struct StageError {
-  int code;
+  driver::ErrorKind kind;
   std::string text;
 };
 
@@ -46,30 +51,29 @@ struct CompileArgs {
   std::vector<std::string> outputs, overrides;
 };
 
+/// `value`, or a UsageError with the message of `parsed`'s Error.
+template <typename T> T usable(Expected<T> parsed) {
+  if (!parsed)
+    throw StageError{driver::ErrorKind::BadOption, "error: " + parsed.error() + "\n"};
+  return std::move(*parsed);
+}
+
 driver::CompileRequest compileRequest(const CompileArgs &a, bool reportOnly) {
   // As open() does: a NUL would cut the path short (compile('osc.lsd\0junk')
   // compiled osc.lsd).
   if (a.path.find('\0') != std::string::npos)
-    throw StageError{2, "error: the path contains a NUL character\n"};
+    throw StageError{driver::ErrorKind::BadOption, "error: the path contains a NUL character\n"};
   driver::CompileRequest req;
   req.path = a.path;
   req.modelName = a.model;
   req.overrides = a.overrides;
   req.outputs = a.outputs;
-  std::optional<passes::Method> method = passes::parseMethod(a.method);
-  if (!method)
-    throw StageError{2, "error: unknown method '" + a.method +
-                            "' (dd, sga, ode or raw)\n"};
-  req.passes.method = *method;
+  driver::CompileChoices choices;
+  choices.method = usable(driver::parseMethodOption(a.method));
+  choices.jit = usable(driver::parseJitOption(a.jit));
+  choices.cacheDir = a.cacheDir;
+  driver::applyCompileChoices(choices, req);
   req.passes.reportOnly = reportOnly;
-  if (a.jit == "auto")
-    req.codegen.jit.reset(); // by the size of the model, as the command
-  else if (a.jit == "on" || a.jit == "off")
-    req.codegen.jit = a.jit == "on";
-  else
-    throw StageError{2, "error: jit must be 'on', 'off' or 'auto', not '" +
-                            a.jit + "'\n"};
-  req.codegen.cacheDir = a.cacheDir;
   return req;
 }
 
@@ -83,25 +87,30 @@ std::string diagnosticText(driver::Compilation &c, DiagId id,
   return out.str();
 }
 
-/// One run's outcome: the runtime's table kept for writing, its values as
-/// one (rows x columns) array for numpy.
+/// One run's outcome: the runtime's result without its rows, which are in
+/// `table` (handed to numpy as a view, to the writers as rows).
 class Result {
 public:
-  Result(runtime::SimResult r, std::string log, std::string diagnostics)
-      : r_(std::move(r)), log_(std::move(log)),
+  Result(runtime::SimResult r, std::unique_ptr<python::RowTable> table,
+         std::string log, std::string diagnostics)
+      : r_(std::move(r)), table_(std::move(table)), log_(std::move(log)),
         diagnostics_(std::move(diagnostics)) {}
 
+  /// The (rows x columns) values, a view of the table's block that keeps
+  /// it alive.
   py::array_t<double> data() const {
-    py::ssize_t rows = static_cast<py::ssize_t>(r_.rows.size());
+    py::ssize_t rows = static_cast<py::ssize_t>(table_->rows());
     py::ssize_t cols = static_cast<py::ssize_t>(r_.columns.size());
-    py::array_t<double> a({rows, cols});
-    auto v = a.mutable_unchecked<2>();
-    for (py::ssize_t i = 0; i < rows; ++i) {
-      const std::vector<double> &row = r_.rows[i];
-      for (py::ssize_t j = 0; j < cols; ++j)
-        v(i, j) = j < static_cast<py::ssize_t>(row.size()) ? row[j] : NAN;
-    }
-    return a;
+    if (rows == 0)
+      return py::array_t<double>(std::vector<py::ssize_t>{0, cols});
+    // The sink's header is the result's (RowSink::begin).
+    assert(table_->columns() == r_.columns.size());
+    auto *owner = new std::shared_ptr<std::vector<double>>(table_->values());
+    py::capsule keep(owner, [](void *p) {
+      delete static_cast<std::shared_ptr<std::vector<double>> *>(p);
+    });
+    return py::array_t<double>(std::vector<py::ssize_t>{rows, cols},
+                               (*owner)->data(), keep);
   }
 
   py::dict stats() const {
@@ -155,10 +164,12 @@ public:
   void write(const std::string &path, const std::string &format) const {
     Expected<runtime::ResultFormat> f = runtime::resultFormat(path, format);
     if (!f)
-      throw StageError{2, "error: " + f.error() + "\n"};
-    Expected<bool> ok = runtime::writeResult(r_, path, *f);
+      throw StageError{driver::ErrorKind::BadOption, "error: " + f.error() + "\n"};
+    runtime::SimResult whole = r_;
+    whole.rows = table_->rowVectors();
+    Expected<bool> ok = runtime::writeResult(whole, path, *f);
     if (!ok)
-      throw StageError{1, "error: " + ok.error() + "\n"};
+      throw StageError{driver::ErrorKind::ModelError, "error: " + ok.error() + "\n"};
   }
 
   const runtime::SimResult &raw() const { return r_; }
@@ -167,20 +178,9 @@ public:
 
 private:
   runtime::SimResult r_;
+  std::unique_ptr<python::RowTable> table_;
   std::string log_;         // initialization reports, warnings
   std::string diagnostics_; // what the command prints for a failure
-};
-
-/// The run options of Model.simulate() (None: the model's experiment
-/// annotation, then the runtime's defaults).
-struct RunArgs {
-  std::optional<double> start, stop, rtol, atol, interval;
-  bool everyStep = false;
-  std::vector<double> times;
-  std::vector<std::string> outputs;
-  std::string integrator = "auto";
-  std::optional<bool> algebraicErrorTest;
-  std::map<std::string, double> params, starts;
 };
 
 /// A model parsed, analyzed and compiled once, run many times.
@@ -196,55 +196,18 @@ public:
       ok = c_->parse() && c_->analyze() && c_->compile();
     }
     if (!ok)
-      throw StageError{c_->exitCode() ? c_->exitCode() : 1, out_.str()};
+      throw StageError{driver::errorKindOfExitCode(c_->exitCode()), out_.str()};
     warnings_ = out_.str();
     out_.str("");
   }
 
-  Result simulate(const RunArgs &a) {
-    std::optional<runtime::IntegratorChoice> integrator =
-        runtime::parseIntegrator(a.integrator);
-    if (!integrator)
-      throw StageError{2, "error: unknown integrator '" + a.integrator +
-                              "' (auto, ida, cvode, cvode-bdf, cvode-adams)\n"};
-    // The command line's checks, with its messages (NaN and inf were run).
-    for (const auto &[what, map] :
-         {std::pair{"parameter override", &a.params},
-          std::pair{"start value override", &a.starts}})
-      for (const auto &[name, value] : *map)
-        if (!std::isfinite(value))
-          throw StageError{2, fmt::format("error: invalid {} '{}={}': '{}' is "
-                                          "not a number\n",
-                                          what, name, value, value)};
-    for (const auto &[option, value] :
-         {std::pair{"start", a.start}, std::pair{"stop", a.stop},
-          std::pair{"rtol", a.rtol}, std::pair{"atol", a.atol},
-          std::pair{"interval", a.interval}})
-      if (value && !std::isfinite(*value))
-        throw StageError{2, fmt::format("error: invalid {} '{}': not a finite "
-                                        "number\n",
-                                        option, *value)};
-    for (double t : a.times)
-      if (!std::isfinite(t))
-        throw StageError{2, fmt::format("error: invalid output time '{}': not "
-                                        "a finite number\n",
-                                        t)};
-    runtime::SimOptions o;
-    o.start = a.start;
-    o.stop = a.stop;
-    o.rtol = a.rtol;
-    o.atol = a.atol;
-    o.interval = a.interval;
-    o.everyStep = a.everyStep;
-    o.times = a.times;
-    o.outputs = a.outputs.empty() ? c_->request().passes.outputs : a.outputs;
-    o.integrator = *integrator;
-    o.algebraicErrorTest = a.algebraicErrorTest;
-    o.params = a.params;
-    o.starts = a.starts;
-    o.progress = false;
+  Result simulate(const driver::RunRequest &run) {
+    usable(driver::checkFinite(run));
+    runtime::SimOptions o = driver::runOptions(run, c_->request());
     std::ostringstream log;
     o.log = &log;
+    auto table = std::make_unique<python::RowTable>();
+    o.rowSink = table.get();
     // Ctrl-C: Python's handler only sets a flag, which the run polls (in
     // the main thread, every 50 ms of the run, taking the GIL for it): the
     // run stops within a step and KeyboardInterrupt is raised; the result
@@ -268,13 +231,16 @@ public:
     if (signalled)
       throw py::error_already_set(); // the KeyboardInterrupt Python set
     if (!*r)
-      throw StageError{
-          2, diagnosticText(*c_, DiagId::ErrSimulationOptions, r->error())};
+      throw StageError{driver::needsRecompile(abi(), run)
+                           ? driver::ErrorKind::NeedsRecompile
+                           : driver::ErrorKind::BadOption,
+                       diagnosticText(*c_, DiagId::ErrSimulationOptions,
+                                      r->error())};
     std::string failure =
         (*r)->status != 0
             ? diagnosticText(*c_, DiagId::ErrSimulationFailed, (*r)->failure)
             : std::string();
-    return Result(std::move(**r), log.str(), failure);
+    return Result(std::move(**r), std::move(table), log.str(), failure);
   }
 
   const ldae_model &abi() const { return c_->compiled().model(); }
@@ -305,6 +271,11 @@ public:
   }
   std::vector<std::string> outputNames() const {
     return names(abi().output_names, abi().n_outputs);
+  }
+  /// The names `patterns` select among outputNames(), for one run.
+  std::vector<std::string>
+  expandOutputs(const std::vector<std::string> &patterns) const {
+    return usable(driver::expandOutputPatterns(patterns, outputNames()));
   }
   /// {name: start} of the compiled unknowns.
   py::dict starts() const {
@@ -338,7 +309,7 @@ py::tuple analyze(const CompileArgs &args) {
   {
     py::gil_scoped_release release;
     if (!c.parse())
-      throw StageError{c.exitCode() ? c.exitCode() : 1, out.str()};
+      throw StageError{driver::errorKindOfExitCode(c.exitCode()), out.str()};
     ok = c.analyze();
     json = passes::analysisToJson(c.analysis()).dump();
   }
@@ -367,9 +338,11 @@ PYBIND11_MODULE(_ldaec, m) {
     } catch (const StageError &e) {
       static const char *classes[] = {"ModelError", "ModelError",
                                       "UsageError", "SimulationError"};
-      const char *cls = classes[e.code >= 1 && e.code <= 3 ? e.code : 1];
+      const char *cls = classes[driver::exitCode(e.kind)];
       py::object type = py::module_::import("ldaec.errors").attr(cls);
-      PyErr_SetObject(type.ptr(), py::str(e.text).ptr());
+      py::object error = type(py::str(e.text));
+      error.attr("kind") = driver::errorKindName(e.kind);
+      PyErr_SetObject(type.ptr(), error.ptr());
     }
   });
 
@@ -413,13 +386,20 @@ PYBIND11_MODULE(_ldaec, m) {
              std::optional<bool> algebraicErrorTest,
              std::map<std::string, double> params,
              std::map<std::string, double> starts) {
-            RunArgs a{start,     stop,
-                      rtol,      atol,
-                      interval,  everyStep,
-                      std::move(times), std::move(outputs),
-                      std::move(integrator), algebraicErrorTest,
-                      std::move(params), std::move(starts)};
-            return self.simulate(a);
+            return self.simulate(driver::RunRequest{
+                .start = start,
+                .stop = stop,
+                .rtol = rtol,
+                .atol = atol,
+                .interval = interval,
+                .everyStep = everyStep,
+                .times = std::move(times),
+                .outputs = std::move(outputs),
+                .integrator =
+                    usable(driver::parseIntegratorOption(integrator)),
+                .algebraicErrorTest = driver::switchChoice(algebraicErrorTest),
+                .params = std::move(params),
+                .starts = std::move(starts)});
           },
           py::arg("start") = py::none(), py::arg("stop") = py::none(),
           py::arg("rtol") = py::none(), py::arg("atol") = py::none(),
@@ -435,6 +415,7 @@ PYBIND11_MODULE(_ldaec, m) {
       .def_property_readonly("unknowns", &Model::unknowns)
       .def_property_readonly("starts", &Model::starts)
       .def_property_readonly("output_names", &Model::outputNames)
+      .def("expand_outputs", &Model::expandOutputs, py::arg("patterns"))
       .def_property_readonly("name", &Model::name)
       .def_property_readonly("compile_seconds", &Model::compileSeconds)
       .def_property_readonly("backend", &Model::backend)
