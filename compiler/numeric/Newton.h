@@ -1,7 +1,9 @@
 // Newton and Gauss–Newton iteration on a residual given as a callback, with
-// the Jacobian from a callback or by forward differences. Shared by the
-// compiler's passes (is a set of start conditions solvable?) and the
-// runtime; knows nothing of the IR or of ldae_model.
+// the Jacobian from a callback or by forward differences, for the
+// compiler's passes (is a set of start conditions solvable?). Its loop is
+// the one Newton kernel (NewtonKernel.h) that the runtime's initialization
+// and constraint projection also run on; knows nothing of the IR or of
+// ldae_model.
 //
 // Each step is the minimum-norm least-squares solution of J dx = -r (a
 // complete orthogonal decomposition), so the same iteration serves square,
