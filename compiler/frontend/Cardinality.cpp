@@ -30,8 +30,11 @@ void Flattener::collectConnects(InstNode &node) {
       collectConnects(*e);
     return;
   }
-  for (auto &m : node.members)
+  for (auto &m : node.members) {
     collectConnects(*m);
+    if (m->innerHalf)
+      collectConnects(*m->innerHalf);
+  }
   std::vector<ir::Equation> none;
   for (const auto &[eq, cls] : node.equations) {
     EqSink sink;

@@ -43,8 +43,11 @@ void Flattener::flattenInstance(InstNode &node) {
       flattenInstance(*e);
     return;
   }
-  for (auto &m : node.members)
+  for (auto &m : node.members) {
     flattenInstance(*m);
+    if (m->innerHalf)
+      flattenInstance(*m->innerHalf);
+  }
   for (const auto &[eq, cls] : node.equations) {
     EqSink sink;
     sink.out = &model_->equations;

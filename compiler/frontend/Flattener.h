@@ -141,6 +141,12 @@ struct InstNode {
   /// An `outer` component: the `inner` one of its name in the nearest
   /// enclosing instance that has one (MLS 5.4); it has no variables itself.
   InstNode *inner = nullptr;
+  /// An `inner outer` component linked to an inner above: it is that
+  /// outer to its own instance's equations, and this separate instance of
+  /// its declaration, with its modifiers, is the inner of the components
+  /// below (MLS 5.4; MSL's CompositeStep reports its suspend and resume to
+  /// its steps through it). Null otherwise.
+  std::unique_ptr<InstNode> innerHalf;
   /// Conditional members whose condition is false (MLS 4.4.5): removed
   /// with the connect equations that name them; kept for the message
   /// that any other use gets.

@@ -534,6 +534,8 @@ void Flattener::elaborateInstance(InstNode &node) {
   }
   for (auto &m : node.members) {
     ensureElaborated(*m, m->decl->loc);
+    if (m->innerHalf)
+      ensureElaborated(*m->innerHalf, m->decl->loc);
     if (overBudget())
       break;
   }
@@ -550,8 +552,7 @@ void Flattener::linkOuterMembers(InstNode &node) {
         continue;
       for (const auto &c : p->members)
         if (c->name == m->name && c->decl && c->decl->isInner) {
-          // An `inner outer` one is itself its outer's inner.
-          m->inner = c->inner ? c->inner : c.get();
+          m->inner = c->innerHalf ? c->innerHalf.get() : c.get();
           break;
         }
     }
@@ -568,6 +569,16 @@ void Flattener::linkOuterMembers(InstNode &node) {
     } else {
       m->state = InstNode::State::Done;
       ensureElaborated(*m->inner, m->decl->loc);
+      if (m->decl->isInner) {
+        auto half = std::make_unique<InstNode>();
+        half->name = m->name;
+        half->path = m->path;
+        half->parent = &node;
+        half->decl = m->decl;
+        half->declClass = m->declClass;
+        half->mod = m->mod;
+        m->innerHalf = std::move(half);
+      }
     }
   }
 }

@@ -9,6 +9,8 @@
 // (t, y, y', pre): what ldae_model::event_update computes.
 #include "passes/Events.h"
 
+#include "passes/DiscreteInitialization.h"
+
 #include "passes/Passes.h"
 #include "passes/Results.h"
 
@@ -125,9 +127,12 @@ public:
 
 private:
   void initialDiscreteValues();
-  bool initialPreValue(const ir::Equation &e);
-  bool startFromInitialEquation(ir::VarId v, ir::ExprRef value,
-                                const ir::Equation &e, bool fixed);
+  /// What initialPreValue made of an initial equation.
+  enum class PreEquation { Used, Several, NotOne };
+  PreEquation initialPreValue(const ir::Equation &e);
+  bool activeAtInitialization(const ir::WhenClause &w) const;
+  bool solveInitialPreValues();
+  bool startFromInitialEquation(ir::VarId v, ir::ExprRef value, bool fixed);
   /// The parameters `e` reads were folded into a value of the compiled
   /// model: they fix it (ir::Parameter::structural).
   void markStructural(ir::ExprRef e);
@@ -140,7 +145,6 @@ private:
   ir::ExprRef fired(size_t clause);
   bool buildUpdate();
   bool checkWhenLoops();
-  const ir::WhenClause *initialClauseAssigning(ir::VarId v) const;
   bool buildTimeEvents();
   void chooseMode();
   ir::ExprRef cur(size_t k) { return ctx_.param(out_.current(k)); }
@@ -183,31 +187,24 @@ private:
   std::vector<ir::ExprRef> def_;
   std::map<size_t, std::string> definedBy_; // slot -> its equation's text
   std::unique_ptr<ir::Substitution> defSubst_;
-  bool failed_ = false; // an error reported before buildUpdate
   /// Unknowns with the equation der(v) = 0 (parameters with fixed = false).
   std::set<ir::VarId> constantInTime_;
+  /// Initial equations of the discrete initialization.
+  std::vector<ir::Equation> discreteInitial_;
+  /// Per slot, its pre() value during the initialization where initial
+  /// equations give it (DiscreteInitialization.h), or null.
+  std::vector<ir::ExprRef> initialPre_;
 };
 
 /// Sets v's start to `value` (of parameters, evaluated now) given by the
-/// initial equation e; false when it cannot be evaluated. A when-clause
-/// active at initialization that assigns v too makes its pre() an unknown
-/// of the initialization (`xd = pre(xd) + 4*pre(x)` with `xd = 2`:
-/// pre(xd) = -6 in OpenModelica's pre3), which ldaec does not solve:
-/// refused, never a guess.
+/// initial equation e; false when it cannot be evaluated.
 bool EventBuilder::startFromInitialEquation(ir::VarId v, ir::ExprRef value,
-                                            const ir::Equation &e,
                                             bool fixed) {
   ir::EvalEnv env = pc_.startEnv();
   env.time = m_.experiment.startTime.value_or(0.0);
   Expected<double> x = ir::evaluate(value, env, &m_);
   if (!x)
     return false;
-  if (const ir::WhenClause *w = initialClauseAssigning(v)) {
-    pc_.diags.report(DiagId::ErrInitialEquationAndWhenInitial, e.loc,
-                     {m_.variables[v].name, e.text,
-                      "when " + ir::printLsd(w->condition, &m_)});
-    failed_ = true;
-  }
   // Folded into the discrete start: a run cannot evaluate it again.
   markStructural(value);
   m_.variables[v].start = *x;
@@ -217,28 +214,50 @@ bool EventBuilder::startFromInitialEquation(ir::VarId v, ir::ExprRef value,
 }
 
 /// `initial equation heat = false;`: an initial equation of discrete
-/// values sets the start value of the variable it is solved for (the
-/// initial event starts from it); it is no equation of the continuous
-/// initialization.
+/// values that gives a variable which only when-clauses inactive at
+/// initialization assign (so that it keeps pre(v) there) sets its start
+/// value (the initial event starts from it); it is no equation of the
+/// continuous initialization. The other initial equations of discrete
+/// values (a variable a discrete equation or a when-clause active at
+/// initialization defines, several pre() values) go to the discrete
+/// initialization (DiscreteInitialization.h).
 void EventBuilder::initialDiscreteValues() {
+  std::vector<bool> heldAtInitialization(m_.variables.size(), false);
+  for (const ir::WhenClause &w : m_.whenClauses)
+    for (ir::ExprRef t : w.targets)
+      heldAtInitialization[t->var()] = true;
+  for (const ir::WhenClause &w : m_.whenClauses)
+    if (activeAtInitialization(w))
+      for (ir::ExprRef t : w.targets)
+        heldAtInitialization[t->var()] = false;
   std::vector<ir::Equation> kept;
   for (ir::Equation &e : m_.initialEquations) {
-    bool used = false;
-    if (ir::isDiscreteEquation(e.residual, discrete_))
-      for (ir::VarKey k : ir::freeVariables(e.residual)) {
-        if (used || k.order != 0 ||
-            m_.variables[k.var].input != ir::EventInput::None ||
-            !discrete_[k.var])
-          continue;
-        ir::ExprRef value = ir::solveLinear(ctx_, e.residual, k.var);
-        if (!value)
-          continue;
-        if (!startFromInitialEquation(k.var, value, e, /*fixed=*/false))
-          continue;
-        used = true;
+    const bool ofVariables = ir::isDiscreteEquation(e.residual, discrete_);
+    bool used = false, defined = false;
+    for (ir::VarKey k : ir::freeVariables(e.residual)) {
+      if (!ofVariables || used || k.order != 0 ||
+          m_.variables[k.var].input != ir::EventInput::None ||
+          !discrete_[k.var])
+        continue;
+      if (!heldAtInitialization[k.var]) {
+        defined = true;
+        continue;
       }
-    if (!used && !initialPreValue(e))
+      ir::ExprRef value = ir::solveLinear(ctx_, e.residual, k.var);
+      used = value && startFromInitialEquation(k.var, value, /*fixed=*/false);
+    }
+    if (used)
+      continue;
+    switch (defined ? PreEquation::Several : initialPreValue(e)) {
+    case PreEquation::Used:
+      break;
+    case PreEquation::Several:
+      discreteInitial_.push_back(std::move(e));
+      break;
+    case PreEquation::NotOne:
       kept.push_back(std::move(e));
+      break;
+    }
   }
   m_.initialEquations = std::move(kept);
 }
@@ -248,16 +267,15 @@ void EventBuilder::initialDiscreteValues() {
 /// (MLS 8.6) that the equation gives from parameters. It becomes the
 /// discrete variable's start, fixed, so that the rounds of the initial
 /// event hold it as they hold pre(v) = v.start (preDuringInitialization);
-/// y itself is then computed by its own equation. True when the equation
-/// was such. An equation of two pre() values (StateGraph's
-/// `pre(newActive) = pre(localActive)`) makes both unknowns of a discrete
-/// initialization, which ldaec does not solve: refused at the equation.
-bool EventBuilder::initialPreValue(const ir::Equation &e) {
+/// y itself is then computed by its own equation. An equation of several
+/// pre() values (StateGraph's `pre(newActive) = pre(localActive)`) is one
+/// of the discrete initialization.
+EventBuilder::PreEquation EventBuilder::initialPreValue(const ir::Equation &e) {
   if (ir::readsContinuous(e.residual, discrete_))
-    return false;
+    return PreEquation::NotOne;
   for (ir::VarKey k : ir::freeVariables(e.residual))
     if (k.order == 0)
-      return false; // of the variable itself: initialDiscreteValues
+      return PreEquation::Several; // a variable and pre() values
   std::vector<ir::VarId> pres;
   ir::ExprRef roots[] = {e.residual};
   ir::postOrder(roots, [&](ir::ExprRef n) {
@@ -266,24 +284,19 @@ bool EventBuilder::initialPreValue(const ir::Equation &e) {
         std::find(pres.begin(), pres.end(), n->var()) == pres.end())
       pres.push_back(n->var());
   });
-  if (pres.size() > 1) {
-    std::vector<std::string> names;
-    for (ir::VarId v : pres)
-      names.push_back(m_.variables[v].name);
-    pc_.diags.report(DiagId::ErrInitialPreSystem, e.loc,
-                     {e.text, quotedList(names)});
-    failed_ = true;
-    return true;
-  }
+  if (pres.size() > 1)
+    return PreEquation::Several;
   if (pres.size() != 1 ||
       m_.variables[pres[0]].input != ir::EventInput::None)
-    return false;
+    return PreEquation::NotOne;
   // pre(v) as the unknown: solved as a variable would be.
   const ir::VarId v = pres[0];
   ir::Substitution asVariable(ctx_);
   asVariable.set(ctx_.pre(v), ctx_.var(v));
   ir::ExprRef value = ir::solveLinear(ctx_, asVariable.apply(e.residual), v);
-  return value && startFromInitialEquation(v, value, e, /*fixed=*/true);
+  if (value && startFromInitialEquation(v, value, /*fixed=*/true))
+    return PreEquation::Used;
+  return PreEquation::Several;
 }
 
 /// floor(x) and ceil(x) (integer(x) is floor) of a continuous or
@@ -622,7 +635,7 @@ ir::ExprRef EventBuilder::risen(size_t clause) {
   ir::ExprRef initRose = ctx_.logicalAnd(
       init, ctx_.logicalNot(pre(static_cast<size_t>(initialSlot_))));
   for (size_t k : slotsOfWhen_[clause]) {
-    if (ir::dependsOn(slots_[k].condition, {initial.var, 0}))
+    if (slots_[k].condition == initial.node)
       any.push_back(ctx_.logicalAnd(
           cur(k), ctx_.logicalOr(initRose,
                                  ctx_.logicalAnd(ctx_.logicalNot(init),
@@ -634,21 +647,16 @@ ir::ExprRef EventBuilder::risen(size_t clause) {
   return ctx_.logicalOr(any);
 }
 
-/// The when-clause whose condition reads initial() (active at the initial
-/// event) that assigns `v`, if any.
-const ir::WhenClause *EventBuilder::initialClauseAssigning(ir::VarId v) const {
-  for (const ir::WhenClause &w : m_.whenClauses) {
-    bool readsInitial = false;
-    for (ir::ExprRef c : conditionsOf(w))
-      for (ir::VarKey k : ir::freeVariables(c))
-        readsInitial |= m_.variables[k.var].input == ir::EventInput::Initial;
-    if (!readsInitial)
-      continue;
-    for (ir::ExprRef t : w.targets)
-      if (t->var() == v)
-        return &w;
-  }
-  return nullptr;
+/// MLS 8.6: a when-clause is active at the initialization only where its
+/// condition is `initial()` or a vector with `initial()` as an element;
+/// `when initial() or time > 0.5` is not (OpenModelica warns of it, and
+/// its discreteTest6 expects y = 0 at the start).
+bool EventBuilder::activeAtInitialization(const ir::WhenClause &w) const {
+  for (ir::ExprRef c : conditionsOf(w))
+    if (c->kind() == ir::ExprKind::Variable &&
+        m_.variables[c->var()].input == ir::EventInput::Initial)
+      return true;
+  return false;
 }
 
 /// Whether branch `clause` fires: it rose and no earlier branch of the
@@ -870,6 +878,43 @@ bool EventBuilder::buildUpdate() {
   return true;
 }
 
+/// The pre() values initial equations give (DiscreteInitialization.h)
+/// replace pre() in the first round of the initial event, where initial()
+/// has just risen; the later rounds read the values before them, as the
+/// event iteration does.
+bool EventBuilder::solveInitialPreValues() {
+  std::vector<DiscreteInitSlot> slots;
+  for (const Slot &s : slots_)
+    slots.push_back({s.kind, s.var,
+                     s.kind == ir::DiscreteKind::Variable &&
+                         m_.variables[s.var].fixed});
+  if (!solveDiscreteInitialization(pc_, out_, slots, discreteInitial_,
+                                   initialPre_))
+    return false;
+  if (initialSlot_ < 0)
+    return true;
+  const size_t init = static_cast<size_t>(initialSlot_);
+  ir::ExprRef firstRound = ctx_.logicalAnd(cur(init), ctx_.logicalNot(pre(init)));
+  ir::Substitution firstPre(ctx_);
+  bool any = false;
+  for (size_t k = 0; k < slots_.size(); ++k)
+    if (initialPre_[k]) {
+      firstPre.set(pre(k), ctx_.ifThenElse(firstRound, initialPre_[k], pre(k)));
+      any = true;
+    }
+  if (!any)
+    return true;
+  for (ir::ExprRef &u : out_.update)
+    u = firstPre.apply(u);
+  for (EventResult::Reinit &r : out_.reinits) {
+    r.value = firstPre.apply(r.value);
+    r.fired = firstPre.apply(r.fired);
+  }
+  for (ir::TerminateUpdate &t : out_.terminates)
+    t.fired = firstPre.apply(t.fired);
+  return true;
+}
+
 bool EventBuilder::buildTimeEvents() {
   for (const ir::Equation &e : m_.equations)
     if (e.residual->kind() == ir::ExprKind::Variable &&
@@ -1025,8 +1070,13 @@ bool EventBuilder::run() {
   if (!anyRelation && m_.whenClauses.empty() && m_.asserts.empty() &&
       std::find(discrete_.begin(), discrete_.end(), true) == discrete_.end())
     return true;
-  // when-clauses need initial() to know the initial event.
-  if (!m_.whenClauses.empty() && !m_.findVariable("initial()")) {
+  for (ir::VarId v = 0; v < m_.variables.size(); ++v)
+    m_.variables[v].isDiscrete = discrete_[v];
+  initialDiscreteValues();
+  // when-clauses and the discrete initialization need initial() to know
+  // the initial event.
+  if ((!m_.whenClauses.empty() || !discreteInitial_.empty()) &&
+      !m_.findVariable("initial()")) {
     ir::Variable v;
     v.name = "initial()";
     v.isDiscrete = v.isBoolean = true;
@@ -1034,11 +1084,6 @@ bool EventBuilder::run() {
     m_.addVariable(std::move(v));
     discrete_.push_back(true);
   }
-  for (ir::VarId v = 0; v < m_.variables.size(); ++v)
-    m_.variables[v].isDiscrete = discrete_[v];
-  initialDiscreteValues();
-  if (failed_)
-    return false;
   if (!partitionEquations())
     return false;
   collectSlots();
@@ -1055,12 +1100,18 @@ bool EventBuilder::run() {
       sc.set(ctx_.pre(s.var), pre(k));
     }
   }
-  bool ok = checkWhenLoops() && buildUpdate();
+  bool ok = checkWhenLoops() && buildUpdate() && solveInitialPreValues();
   ok = buildTimeEvents() && ok;
   for (ir::Equation &e : continuous_)
     e.residual = sc.apply(e.residual);
+  // The initialization reads pre() values as the discrete initialization
+  // gives them (x2 = pre(xd) in OpenModelica's pre3).
+  ir::Substitution initialPre(ctx_);
+  for (size_t k = 0; k < initialPre_.size(); ++k)
+    if (initialPre_[k])
+      initialPre.set(pre(k), initialPre_[k]);
   for (ir::Equation &e : m_.initialEquations)
-    e.residual = sc.apply(e.residual);
+    e.residual = initialPre.apply(sc.apply(e.residual));
   m_.equations = std::move(continuous_);
   if (!ok)
     return false;
