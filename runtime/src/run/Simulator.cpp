@@ -854,6 +854,86 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     }
     return true;
   };
+  // An algebraic solution that ends (a fold: the Schmitt trigger's op-amp
+  // output saturated at one supply past its switching threshold, under
+  // noEvent) fails the corrector at every step size there. Just past the
+  // last point reached, the states held, the algebraic unknowns are solved
+  // again as after an event; where they jump to another branch, the run
+  // goes on from it (as Dymola's results for MSL's OpAmps examples do).
+  // One attempt per point reached, and only a real jump counts.
+  double lastFoldTry = -std::numeric_limits<double>::infinity();
+  // A jump, not the iteration settling the same branch: some unknown
+  // moved by a hundredth of its size.
+  auto jumpedFar = [&](const std::vector<double> &from,
+                       const std::vector<double> &to) {
+    for (int i = 0; i < n; ++i)
+      if (std::fabs(to[i] - from[i]) >
+          1e-2 * std::max({std::fabs(from[i]), std::fabs(to[i]), 1e-6}))
+        return true;
+    return false;
+  };
+  auto jumpPastFold = [&](const StepStatus &st) {
+    if (st.failure != FailureKind::Convergence &&
+        st.failure != FailureKind::ErrorTest)
+      return false;
+    const double tc = integrator.currentTime();
+    if (!(tc > lastFoldTry) || tc >= s_.stop)
+      return false;
+    lastFoldTry = tc;
+    // Copied: every try restarts the integrator.
+    const std::vector<double> yc(integrator.y(), integrator.y() + n),
+        ypc(integrator.yp(), integrator.yp() + n);
+    const double h0 = integrator.lastStep();
+    const int *differential = ev.set(integrator.set()).is_differential;
+    for (double h : {1e-3 * h0, 1e-2 * h0, 0.1 * h0, h0, 10 * h0}) {
+      const double tt =
+          std::min(tc + std::max(h, 1e-12 * (1 + std::fabs(tc))), s_.stop);
+      std::vector<double> predicted(n);
+      for (int i = 0; i < n; ++i)
+        predicted[i] = yc[i] + (tt - tc) * ypc[i];
+      // The damped Newton iteration from the old branch stops at the
+      // residual's minimum near the fold; the other branch of a limiter
+      // symmetric about zero (op-amp supplies +-15 V) is found from the
+      // algebraic unknowns mirrored.
+      // Only where the old branch has ended: while it still has a point
+      // (a failure for another reason), the other branch of the
+      // hysteresis is no answer.
+      std::vector<double> yt = predicted, ypt = ypc;
+      std::string why;
+      if (restartAfterEvent(ev, integrator, tt, yt, ypt, {}, why, nullptr)) {
+        if (!jumpedFar(predicted, yt))
+          continue;
+      } else {
+        yt = predicted;
+        ypt = ypc;
+        for (int i = 0; i < n; ++i)
+          if (!differential[i])
+            yt[i] = -yt[i];
+        if (!restartAfterEvent(ev, integrator, tt, yt, ypt, {}, why, nullptr) ||
+            !jumpedFar(predicted, yt))
+          continue;
+      }
+      if (o_.log) {
+        *o_.log << fmt::format("t = {:.10g}: the algebraic equations have no "
+                               "solution near the point reached at t = "
+                               "{:.10g} (a fold); solved again with the "
+                               "states held, they jumped:\n",
+                               tt, tc);
+        reportMoves(ev, predicted, yt.data(), o_.log);
+      }
+      t = tt;
+      // Grid rows the jump stepped over take the new branch.
+      for (; k_ <= nOut_ && gridTime(k_) < tt; ++k_)
+        if (!o_.everyStep && !rec.record(gridTime(k_), yt.data(), ypt.data()))
+          return false;
+      if (!rec.record(tt, yt.data(), ypt.data()))
+        return false;
+      watch.restarted(t, yt.data(), ypt.data());
+      stepsSinceOutput = 0;
+      return aimAtNextEvent();
+    }
+    return false;
+  };
   while (true) {
     StepStatus st = integrator.step(t);
     if (st.ok() && integrator.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
@@ -868,8 +948,13 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
           fmt::format("more than {} steps between output times",
                       kMaxStepsPerOutput));
     if (!st.ok()) {
-      res_.failure =
+      // Described before a jump is tried, which restarts the integrator.
+      std::string failure =
           describeFailure(ev, integrator, st, integrator.currentTime());
+      if (jumpPastFold(st))
+        continue;
+      if (res_.failure.empty())
+        res_.failure = std::move(failure);
       return done(StageEnd::Done);
     }
     bool recorded =
