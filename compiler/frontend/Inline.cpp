@@ -43,10 +43,6 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
            {fn.name, std::to_string(kMaxInlineDepth)});
     return std::nullopt;
   }
-  if (fn.isExternal) {
-    report(DiagId::ErrUnsupported, where, {"external function '" + fn.name + "'"});
-    return std::nullopt;
-  }
   // `extends Modelica.Icons.Function`: a base that declares nothing (an
   // icon) adds nothing; one with variables or a body is not supported.
   std::function<bool(const ast::ClassDef &, unsigned)> declaresNothing =
@@ -227,6 +223,8 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     }
     fenv.set(c.name, std::move(*value));
   }
+  if (fn.isExternal)
+    return externalCall(fn, fenv);
   if (execStatements(fn.algorithm, fn, Scope{nullptr, &fn}, fenv) !=
       ExecResult::Ok)
     return std::nullopt;
