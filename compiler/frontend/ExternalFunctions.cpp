@@ -5,6 +5,7 @@
 // 12.9.1: Real -> double, Integer, Boolean and enumerations -> int, arrays
 // -> pointers to row-major data, outputs that are arguments -> pointers.
 #include "frontend/ExternalLibraries.h"
+#include "frontend/ExternalObject.h"
 #include "frontend/Flattener.h"
 #include "ir/External.h"
 #include "support/SourceManager.h"
@@ -15,18 +16,62 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
 namespace ldae::frontend {
 namespace {
 
-enum class CType { Double, Int };
+enum class CType { Double, Int, String, Object };
 
-const char *cName(CType t) { return t == CType::Double ? "double" : "int"; }
+const char *cName(CType t) {
+  switch (t) {
+  case CType::Double: return "double";
+  case CType::Int: return "int";
+  case CType::String: return "const char *";
+  case CType::Object: return "void *";
+  }
+  return "double";
+}
+
+/// `s` as a C string literal.
+std::string cLiteral(const std::string &s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += char(c);
+    } else if (c < 32 || c >= 127) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\%03o", c);
+      out += buf;
+    } else {
+      out += char(c);
+    }
+  }
+  return out + "\"";
+}
+
+/// The C sources of the Modelica Standard Library's libraries (its
+/// Resources/C-Sources/readme.txt); zlib is the system's.
+const std::map<std::string, std::vector<std::string>> &knownLibraries() {
+  static const std::map<std::string, std::vector<std::string>> libs = {
+      {"ModelicaStandardTables",
+       {"ModelicaStandardTables.c", "ModelicaStandardTablesUsertab.c"}},
+      {"ModelicaIO", {"ModelicaIO.c"}},
+      {"ModelicaMatIO", {"ModelicaMatIO.c", "snprintf.c"}},
+      {"ModelicaExternalC",
+       {"ModelicaFFT.c", "ModelicaInternal.c", "ModelicaRandom.c",
+        "ModelicaStrings.c"}},
+  };
+  return libs;
+}
 
 /// One argument of the C call.
 struct CArg {
+  std::string literal; // a String argument: its text, known when compiling
   bool output = false;
   CType type = CType::Double;
   bool array = false;
@@ -88,6 +133,8 @@ std::optional<CType> externalCType(Flattener &flat, const ast::ClassDef &fn,
         return CType::Double;
       if (cur.parts[0] == "Integer" || cur.parts[0] == "Boolean")
         return CType::Int;
+      if (cur.parts[0] == "String")
+        return CType::String;
     }
     const ast::ClassDef *cls =
         flat.classes().resolveClass(cur, scope, file, /*report=*/false);
@@ -95,6 +142,8 @@ std::optional<CType> externalCType(Flattener &flat, const ast::ClassDef &fn,
       return std::nullopt;
     if (flat.enumerationOf(cls))
       return CType::Int;
+    if (!cls->isShort && isExternalObject(*cls))
+      return CType::Object;
     if (!cls->isShort)
       return std::nullopt;
     scope = cls->parent;
@@ -102,6 +151,86 @@ std::optional<CType> externalCType(Flattener &flat, const ast::ClassDef &fn,
     cur = cls->shortBase;
   }
   return std::nullopt;
+}
+
+} // namespace
+
+namespace {
+
+/// The directory of `fn`'s IncludeDirectory annotation (MLS 12.9.4), ""
+/// when there is none on disk; an error for a URI ldaec cannot resolve.
+Expected<std::string> libraryDirectory(const ast::ClassDef &fn,
+                                       const SourceManager &sourceFiles) {
+  // IncludeDirectory (MLS 12.9.4), default modelica://<top>/Resources/Include;
+  // the MSL's points at Resources/C-Sources, where its libraries' sources
+  // are too.
+  const ast::ClassDef *top = &fn;
+  while (top->parent)
+    top = top->parent;
+  std::vector<std::string> dirs = annotationStrings(fn, "IncludeDirectory");
+  std::string uri = dirs.empty() ? "modelica://" + top->name + "/Resources/Include"
+                                 : dirs[0];
+  const std::string scheme = "modelica://";
+  std::string rest = uri.substr(0, scheme.size()) == scheme
+                         ? uri.substr(scheme.size())
+                         : std::string();
+  std::string first = rest.substr(0, rest.find('/'));
+  if (rest.empty() || first != top->name) {
+    if (dirs.empty())
+      return std::string();
+    return Error{"IncludeDirectory \"" + uri + "\" (only modelica://" +
+                 top->name + "/... is)"};
+  }
+  std::filesystem::path file = sourceFiles.path(top->file);
+  if (file.filename() != "package.mo")
+    return std::string();
+  std::filesystem::path dir =
+      file.parent_path() / rest.substr(std::min(rest.size(), first.size() + 1));
+  std::error_code ec;
+  return std::filesystem::is_directory(dir, ec) ? dir.string() : std::string();
+}
+
+/// Builds and loads the C libraries of `fn`'s Library annotation that
+/// ldaec compiles from sources; adds the others to `wrapper` (-l). Returns
+/// an error text, "" when all is well.
+std::string loadLibraries(const ast::ClassDef &fn, const std::string &sources,
+                          CBuild &wrapper, const std::string &cacheDir) {
+  std::vector<std::string> names = annotationStrings(fn, "Library");
+  // ldaec's ModelicaUtilities first, then the libraries in reverse order:
+  // each one's symbols are global before a library that calls them loads.
+  std::vector<CBuild> builds;
+  bool needsUtilities = false;
+  for (auto it = names.rbegin(); it != names.rend(); ++it) {
+    const std::string &name = *it;
+    if (name == "zlib" || name == "m") {
+      wrapper.libraries.push_back(name == "zlib" ? "z" : "m");
+      continue;
+    }
+    auto known = knownLibraries().find(name);
+    if (known == knownLibraries().end() || sources.empty()) {
+      wrapper.libraries.push_back(name); // a system library: -lname
+      continue;
+    }
+    CBuild lib;
+    for (const std::string &f : known->second)
+      lib.files.push_back(sources + "/" + f);
+    lib.includeDirs.push_back(sources);
+    lib.defines.push_back("HAVE_ZLIB=1");
+    // The library's own usertab stands in when the user gives none.
+    lib.defines.push_back("DUMMY_FUNCTION_USERTAB=1");
+    lib.libraries = {"z", "m"};
+    builds.push_back(std::move(lib));
+    needsUtilities = true;
+  }
+  if (needsUtilities) {
+    CBuild utilities;
+    utilities.source = modelicaUtilitiesSource();
+    builds.insert(builds.begin(), std::move(utilities));
+  }
+  for (const CBuild &b : builds)
+    if (auto handle = loadCBuild(b, cacheDir); !handle)
+      return handle.error();
+  return "";
 }
 
 } // namespace
@@ -190,6 +319,11 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     returnType = typeOf(*returned);
     if (!returnType)
       return std::nullopt;
+    if (*returnType == CType::String) {
+      report(DiagId::ErrUnsupported, at,
+             {"external functions returning a String"});
+      return std::nullopt;
+    }
     outOffset[returned] = numOut++;
   }
   Scope fscope{nullptr, &fn};
@@ -207,6 +341,11 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       if (outOffset.count(c)) {
         report(DiagId::ErrUnsupported, SourceRange{e->loc, e->length},
                {"an output passed twice to an external function"});
+        return std::nullopt;
+      }
+      if (*t == CType::String || *t == CType::Object) {
+        report(DiagId::ErrUnsupported, SourceRange{e->loc, e->length},
+               {"string or external object outputs passed as arguments"});
         return std::nullopt;
       }
       arg.output = true;
@@ -232,10 +371,16 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     std::optional<Value> v = lower(*e, fscope, &fenv);
     if (!v)
       return std::nullopt;
-    if (v->isString) {
+    if (v->isString != (arg.type == CType::String) ||
+        (arg.type == CType::Object && !v->shape.empty())) {
       report(DiagId::ErrUnsupported, SourceRange{e->loc, e->length},
-             {"string arguments of external functions"});
+             {"this argument of an external function"});
       return std::nullopt;
+    }
+    if (v->isString) {
+      arg.literal = v->str;
+      args.push_back(arg);
+      continue;
     }
     arg.array = !v->shape.empty();
     arg.offset = in.size();
@@ -253,6 +398,7 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   // The wrapper: converts, calls, stores every output.
   std::vector<std::string> includes = annotationStrings(fn, "Include");
   std::ostringstream src;
+  src << "#include <stdint.h>\n";
   for (const std::string &inc : includes)
     src << inc << "\n";
   std::string ret = returned ? cName(*returnType) : "void";
@@ -260,7 +406,8 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     src << "extern " << ret << " " << cFunction << "(";
     for (size_t i = 0; i < args.size(); ++i) {
       const CArg &a = args[i];
-      src << (i ? ", " : "") << (a.output || !a.array ? "" : "const ")
+      src << (i ? ", " : "")
+          << (a.output || !a.array || a.type == CType::String ? "" : "const ")
           << cName(a.type) << (a.output || a.array ? " *" : "");
     }
     src << (args.empty() ? "void" : "") << ");\n";
@@ -273,7 +420,12 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     for (size_t i = 0; i < args.size(); ++i) {
       const CArg &a = args[i];
       std::string v = "a" + std::to_string(i);
-      if (a.array || a.output) {
+      if (a.type == CType::String) {
+        w << "  const char *" << v << " = " << cLiteral(a.literal) << ";\n";
+      } else if (a.type == CType::Object) {
+        w << "  void *" << v << " = (void *)(uintptr_t)in[" << a.offset
+          << "];\n";
+      } else if (a.array || a.output) {
         w << "  " << cName(a.type) << " " << v << "[" << std::max<size_t>(1, a.count)
           << "];\n";
         if (!a.output)
@@ -286,7 +438,9 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       call += (i ? ", " : "") + v;
     }
     call += ")";
-    if (returned)
+    if (returned && *returnType == CType::Object)
+      w << "  out[0] = (double)(uintptr_t)" << call << ";\n";
+    else if (returned)
       w << "  out[0] = (double)" << call << ";\n";
     else
       w << "  " << call << ";\n";
@@ -303,6 +457,18 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   CBuild build;
   build.source = src.str();
   build.libraries = {"m"};
+  Expected<std::string> sources = libraryDirectory(fn, diags_.sources());
+  if (!sources) {
+    report(DiagId::ErrUnsupported, at, {sources.error()});
+    return std::nullopt;
+  }
+  if (!sources->empty())
+    build.includeDirs.push_back(*sources);
+  if (std::string e = loadLibraries(fn, *sources, build, opts_.cacheDir);
+      !e.empty()) {
+    report(DiagId::ErrExternalBuild, at, {fn.name, e});
+    return std::nullopt;
+  }
   auto handle = loadCBuild(build, opts_.cacheDir);
   if (!handle) {
     report(DiagId::ErrExternalBuild, at, {fn.name, handle.error()});

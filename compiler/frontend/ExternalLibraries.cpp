@@ -72,6 +72,8 @@ Expected<std::string> keyText(const CBuild &b) {
     text += "-I" + d + "\n";
   for (const std::string &l : b.libraries)
     text += "-l" + l + "\n";
+  for (const std::string &d : b.defines)
+    text += "-D" + d + "\n";
   text += std::to_string(b.source.size()) + "\n" + b.source;
   for (const std::string &f : b.files) {
     std::optional<std::string> contents = readFile(f);
@@ -195,6 +197,8 @@ Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir) {
       args.push_back(f);
     for (const std::string &d : build.includeDirs)
       args.push_back("-I" + d);
+    for (const std::string &d : build.defines)
+      args.push_back("-D" + d);
     args.push_back("-o");
     args.push_back(object);
     args.push_back(source);

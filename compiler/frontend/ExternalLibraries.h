@@ -21,7 +21,13 @@ struct CBuild {
   std::vector<std::string> files;       // C sources compiled with it
   std::vector<std::string> includeDirs; // -I
   std::vector<std::string> libraries;   // -l, after the sources
+  std::vector<std::string> defines;     // -D
 };
+
+/// The C text of ldaec's ModelicaUtilities.h callbacks (ModelicaError...),
+/// built into a shared object of its own that is loaded before any
+/// library that calls them.
+const char *modelicaUtilitiesSource();
 
 /// Builds `build` into a shared object, or finds it in `cacheDir` (a key
 /// over the sources, the flags and the compiler), and loads it with its
