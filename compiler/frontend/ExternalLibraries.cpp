@@ -174,6 +174,16 @@ std::string runCompiler(const std::vector<std::string> &args,
 Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir) {
   static std::mutex mutex; // one build of an entry at a time in a process
   std::lock_guard lock(mutex);
+  // A build already loaded by this process (the same function called in
+  // many places): its files are not read and hashed again.
+  static std::map<std::string, void *> loaded;
+  std::string request = build.source + '\0' + cacheDir;
+  for (const auto *list : {&build.files, &build.includeDirs, &build.libraries,
+                           &build.defines})
+    for (const std::string &item : *list)
+      request += '\0' + item;
+  if (auto it = loaded.find(request); it != loaded.end())
+    return it->second;
   auto text = keyText(build);
   if (!text)
     return Error{text.error()};
@@ -222,6 +232,7 @@ Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir) {
   void *handle = dlopen(entry.c_str(), RTLD_NOW | RTLD_GLOBAL);
   if (!handle)
     return Error{std::string("cannot load the compiled C code: ") + dlerror()};
+  loaded.emplace(std::move(request), handle);
   return handle;
 }
 
