@@ -17,6 +17,9 @@ PACKAGES=(
   # compare against, and as the -O0 reference docs/sundials.md measures.
   libsundials-dev
   libeigen3-dev libfmt-dev libgtest-dev libcli11-dev nlohmann-json3-dev
+  # external C functions: SHA-256 keys of built code (libssl-dev), the
+  # Modelica Standard Library's tables read compressed files (zlib1g-dev)
+  libssl-dev zlib1g-dev
   gnuplot-nox python3-matplotlib python3-scipy
   # Results, the Python module and sweeps (docs/results.md, docs/python.md).
   pybind11-dev python3-dev python3-numpy python3-pytest

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,10 @@ enum class OpCode : uint8_t {
   Not,    // a == 0, 1 or 0
   Reduce, // a folded with reduction `index`: a ± term(0) ± term(1) ...
           // in that order (the error bit: a's or any term's)
+  ExtArg, // argument `index` of an external call: value a; b is argument
+          // index - 1 (an ExtArg node; b == a for argument 0)
+  ExtCall,// output `value` of CodePlan::externals[index] at the arguments
+          // of the ExtArg chain ending in a (no arguments: a is no ExtArg)
 };
 
 /// True for the leaves that read inputs or constants.
@@ -61,6 +66,7 @@ inline unsigned numOperands(OpCode op) {
   case OpCode::Func1:
   case OpCode::Not:
   case OpCode::Reduce:
+  case OpCode::ExtCall:
     return 1;
   case OpCode::Select:
     return 3;
@@ -111,6 +117,21 @@ struct PlanChunk {
 
 struct PlanLoop;
 
+/// The ExtArg nodes of external call `call` in argument order.
+std::vector<uint32_t> externalArguments(std::span<const PlanNode> nodes,
+                                        uint32_t call);
+
+/// An external function wrapper the plan calls (ir/External.h): every
+/// backend calls it as `void symbol(const double *in, double *out)`.
+struct PlanExternal {
+  std::string symbol;
+  std::string name; // the Modelica name, for messages
+  unsigned numInputs = 0, numOutputs = 0;
+  /// Where the loaded wrapper is in this process (0 when not loaded: the
+  /// C emitter needs only the symbol).
+  uintptr_t address = 0;
+};
+
 struct PlanFunction {
   std::string name; // symbol suffix: "residual_0", "jac_csc_1", "outputs"...
   FnSig sig = FnSig::Values;
@@ -128,6 +149,9 @@ struct PlanFunction {
   std::vector<PlanLoop> loops;
   /// The loops Reduce nodes run: long sums of terms of one shape.
   std::vector<PlanLoop> reductions;
+  /// CodePlan::externals again, for the interpreter, which runs one
+  /// function without its plan (empty when no node calls one).
+  std::vector<PlanExternal> externals;
 };
 
 /// An index that changes from one loop iteration to the next: base + i *
@@ -205,6 +229,8 @@ struct DynamicSetPlan {
 /// Everything the C ABI struct holds, as plain data plus plan functions.
 struct CodePlan {
   std::string name;       // the model's name
+  /// The external functions ExtCall nodes call, by their `index`.
+  std::vector<PlanExternal> externals;
   std::string symbolName; // a C identifier derived from it
   std::vector<PlanFunction> functions;
   std::vector<StateSetPlan> stateSets;

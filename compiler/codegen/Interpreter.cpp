@@ -160,6 +160,18 @@ void evaluateNodes(const PlanFunction &fn, double t, const double *y,
     case OpCode::And: r = a != 0 && b != 0; break;
     case OpCode::Or: r = a != 0 || b != 0; break;
     case OpCode::Not: r = a == 0; break;
+    case OpCode::ExtArg: r = a; break;
+    case OpCode::ExtCall: {
+      const PlanExternal &f = fn.externals[n.index];
+      std::vector<uint32_t> args = externalArguments(fn.nodes, uint32_t(k));
+      std::vector<double> in(args.size()), out(std::max(1u, f.numOutputs));
+      for (size_t i = 0; i < args.size(); ++i)
+        in[i] = v[args[i]];
+      reinterpret_cast<void (*)(const double *, double *)>(f.address)(
+          in.data(), out.data());
+      r = out[size_t(n.value)];
+      break;
+    }
     case OpCode::Reduce: {
       bool failed = err[n.a];
       v[k] = reduce(fn.reductions[n.index], a, t, y, yp, p, cj, failed);

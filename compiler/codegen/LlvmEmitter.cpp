@@ -260,6 +260,8 @@ private:
       break;
     }
     case OpCode::Not: r = boolean(b_.CreateFCmpOEQ(a, zero())); break;
+    case OpCode::ExtArg: r = a; break;
+    case OpCode::ExtCall: r = externalCall(k); break;
     case OpCode::Reduce: {
       llvm::Value *slot = nullptr;
       if (n.mayFail)
@@ -285,6 +287,27 @@ private:
           e = b_.CreateOr(e, error(n.operand(i)));
       err_[k] = e;
     }
+  }
+
+  /// `void symbol(const double *in, double *out)` on stack arrays.
+  llvm::Value *externalCall(uint32_t k) {
+    const PlanNode &n = fn_.nodes[k];
+    const PlanExternal &x = fn_.externals[n.index];
+    std::vector<uint32_t> args = externalArguments(fn_.nodes, k);
+    auto *inTy = llvm::ArrayType::get(dbl_, std::max<size_t>(1, args.size()));
+    auto *outTy = llvm::ArrayType::get(dbl_, std::max(1u, x.numOutputs));
+    llvm::Value *in = b_.CreateAlloca(inTy);
+    llvm::Value *out = b_.CreateAlloca(outTy);
+    for (size_t i = 0; i < args.size(); ++i)
+      b_.CreateStore(value(args[i]),
+                     b_.CreateConstInBoundsGEP2_32(inTy, in, 0, unsigned(i)));
+    llvm::FunctionCallee f = m_.getOrInsertFunction(
+        x.symbol, llvm::FunctionType::get(b_.getVoidTy(),
+                                          {b_.getPtrTy(), b_.getPtrTy()},
+                                          false));
+    b_.CreateCall(f, {in, out});
+    return b_.CreateLoad(
+        dbl_, b_.CreateConstInBoundsGEP2_32(outTy, out, 0, unsigned(n.value)));
   }
 
   llvm::Value *unary(FuncKind f, llvm::Value *a, llvm::Value *&check) {
@@ -735,6 +758,20 @@ compileWithLljit(const CodePlan &plan, const std::string &cacheDir) {
   if (!gen)
     return toError(gen.takeError());
   lib.addGenerator(std::move(*gen));
+  // External function wrappers are already loaded in this process; the
+  // cached object names them by symbol, so a hit resolves them the same way.
+  if (!plan.externals.empty()) {
+    llvm::orc::SymbolMap wrappers;
+    for (const PlanExternal &x : plan.externals) {
+      if (!x.address)
+        return Error{"external function '" + x.name + "' is not loaded"};
+      wrappers[(*jit)->mangleAndIntern(x.symbol)] = {
+          llvm::orc::ExecutorAddr(x.address),
+          llvm::JITSymbolFlags::Exported | llvm::JITSymbolFlags::Callable};
+    }
+    if (auto e = lib.define(llvm::orc::absoluteSymbols(std::move(wrappers))))
+      return toError(std::move(e));
+  }
   const bool hit = cached != nullptr;
   if (hit) {
     if (auto e = (*jit)->addObjectFile(std::move(cached)))

@@ -86,8 +86,8 @@ private:
         continue;
       }
       const PlanNode &n = fn_.nodes[k];
-      if (n.op == OpCode::Reduce)
-        return false;
+      if (n.op == OpCode::Reduce || n.op == OpCode::ExtCall)
+        return false; // an external call keeps its own node (impure ones)
       if (next < numOperands(n.op)) {
         uint32_t child = n.operand(next++);
         if (local_[child] < 0)

@@ -9,6 +9,7 @@
 #include "codegen/LoopRolling.h"
 
 #include "ir/Differentiate.h"
+#include "ir/External.h"
 #include "ir/Query.h"
 #include "ir/Substitute.h"
 #include "ldae/model.h"
@@ -219,6 +220,22 @@ private:
     }
     case ExprKind::Not:
       return op(OpCode::Not, node(e->operand(0)));
+    case ExprKind::External: {
+      // Arguments as a chain of ExtArg nodes (an operation reads at most
+      // three operands); index is the ir id until lowerToPlan renumbers it.
+      uint32_t last = 0;
+      for (unsigned i = 0; i < e->numOperands(); ++i) {
+        uint32_t v = node(e->operand(i));
+        uint32_t k = op(OpCode::ExtArg, v, i == 0 ? v : last);
+        fn_.nodes[k].index = int32_t(i);
+        last = k;
+      }
+      uint32_t call =
+          op(OpCode::ExtCall, e->numOperands() ? last : constant(0));
+      fn_.nodes[call].index = int32_t(e->externalId());
+      fn_.nodes[call].value = e->externalOutput();
+      return call;
+    }
     }
     fail("unknown expression kind");
     return constant(0);
@@ -396,6 +413,11 @@ void assignChunks(PlanFunction &fn, unsigned size) {
     fn.numSpillSlots += fn.nodes[operand].mayFail ? 2 : 1;
   };
   if (numChunks > 1) {
+    // An external call reads its whole argument chain.
+    for (uint32_t k = 0; k < fn.nodes.size(); ++k)
+      if (fn.nodes[k].op == OpCode::ExtCall)
+        for (uint32_t arg : externalArguments(fn.nodes, k))
+          use(arg, chunkOf[k]);
     for (size_t k = 0; k < fn.nodes.size(); ++k)
       for (unsigned i = 0; i < numOperands(fn.nodes[k].op); ++i)
         use(fn.nodes[k].operand(i), chunkOf[k]);
@@ -625,6 +647,32 @@ static void planGeometricSlots(const ir::DaeSystem &sys, CodePlan &plan,
           b.store(b.lower(e.dy), 0, e.col * m + e.row, e.row);
       });
 }
+
+namespace {
+
+/// Replaces the ir ids of ExtCall nodes by indices into plan.externals,
+/// listing each called function once, in order of first call.
+void numberExternals(CodePlan &plan) {
+  std::map<int32_t, int32_t> index;
+  for (PlanFunction &fn : plan.functions)
+    for (PlanNode &n : fn.nodes) {
+      if (n.op != OpCode::ExtCall)
+        continue;
+      auto [it, fresh] = index.emplace(n.index, int32_t(plan.externals.size()));
+      if (fresh) {
+        const ir::ExternalFunction &f = ir::externalFunction(uint32_t(n.index));
+        plan.externals.push_back(
+            {f.symbol, f.name, f.numInputs, f.numOutputs,
+             reinterpret_cast<uintptr_t>(f.entry)});
+      }
+      n.index = it->second;
+    }
+  if (!plan.externals.empty())
+    for (PlanFunction &fn : plan.functions)
+      fn.externals = plan.externals;
+}
+
+} // namespace
 
 Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
                                const PlanOptions &opts) {
@@ -891,6 +939,7 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
 
   if (!error.empty())
     return Error{error};
+  numberExternals(plan);
   return plan;
 }
 

@@ -4,6 +4,8 @@
 // (libldae_jit.so), which shares no other code with the executable.
 #include "codegen/CodePlan.h"
 
+#include <algorithm>
+
 #include <cassert>
 
 namespace ldae::codegen {
@@ -70,6 +72,22 @@ size_t planNodes(const CodePlan &plan) {
       n += r.body.nodes.size();
   }
   return n;
+}
+
+std::vector<uint32_t> externalArguments(std::span<const PlanNode> nodes,
+                                        uint32_t call) {
+  std::vector<uint32_t> args;
+  uint32_t k = nodes[call].a;
+  if (nodes[k].op != OpCode::ExtArg)
+    return args;
+  for (;;) {
+    args.push_back(k);
+    if (nodes[k].index == 0)
+      break;
+    k = nodes[k].b;
+  }
+  std::reverse(args.begin(), args.end());
+  return args;
 }
 
 } // namespace ldae::codegen

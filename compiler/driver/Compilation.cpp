@@ -44,6 +44,9 @@ bool Compilation::parse() {
   feOpts.modelName = request_.modelName;
   feOpts.paramOverrides = request_.overrides;
   feOpts.libraryPaths = request_.libraries;
+  feOpts.cacheDir = request_.externalCacheDir.empty()
+                       ? request_.codegen.cacheDir
+                       : request_.externalCacheDir;
   if (request_.classOnPath) {
     // The class itself is the model, found on the library path.
     feOpts.modelName = request_.path;

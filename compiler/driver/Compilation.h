@@ -33,6 +33,10 @@ struct CompileRequest {
   /// `path` names a class on the library path, not a file.
   bool classOnPath = false;
   std::vector<std::string> libraries; ///< --lib, before MODELICAPATH
+  /// Where compiled external C code is kept ("": a temporary directory):
+  /// the object cache's directory, also when nothing is JIT-compiled, since
+  /// `--emit flat` evaluates external calls of parameters too.
+  std::string externalCacheDir;
   /// Values fixed before analysis (--param name=value, --override
   /// name=value and name.start=value): structural parameters, and start
   /// values that cannot change at run time, go here.

@@ -75,6 +75,8 @@ static driver::CompileRequest compileRequest(const driver::Options &opts) {
   choices.jit = opts.jit;
   if (opts.simulate && !opts.noCache)
     choices.cacheDir = driver::defaultCacheDir();
+  if (!opts.noCache)
+    req.externalCacheDir = driver::defaultCacheDir();
   driver::applyCompileChoices(choices, req);
   passes::PipelineOptions &p = req.passes;
   // `--emit reduced` shows the index-1 system index reduction built; the

@@ -229,6 +229,17 @@ struct ClassDef {
   /// Its `initial algorithm` sections.
   std::vector<std::vector<Statement>> initialAlgorithms;
   bool isExternal = false;
+  /// The `external` clause of a function (MLS 12.9): language, and the call
+  /// as written; `function` empty when no call is written (the default
+  /// mapping: the function's own name, inputs in order, the output returned).
+  struct ExternalClause {
+    std::string language = "C";
+    SourceLoc loc;
+    uint32_t length = 1;
+    ExprPtr output; // `y = f(...)`: the component reference y, else null
+    std::string function;
+    std::vector<ExprPtr> args;
+  } external;
   std::vector<ModificationPtr> annotations; // class annotations
 
   // Short form: `type V = input Real[3](unit = "V");`

@@ -262,8 +262,22 @@ private:
           isProtected = false;
         else if (type == LsdParser::PROTECTED)
           isProtected = true;
-        else if (type == LsdParser::EXTERNAL)
+        else if (type == LsdParser::EXTERNAL) {
           cls.isExternal = true;
+          cls.external.loc = loc(t);
+          cls.external.length = 8;
+        }
+      } else if (auto *ls = dynamic_cast<LsdParser::LanguageSpecificationContext *>(child)) {
+        cls.external.language = unquote(ls->STRING()->getText());
+      } else if (auto *xc = dynamic_cast<LsdParser::ExternalCallContext *>(child)) {
+        cls.external.loc = loc(xc);
+        cls.external.length = length(xc);
+        if (xc->componentReference())
+          cls.external.output = componentReference(xc->componentReference());
+        cls.external.function = ident(xc->IDENT());
+        if (xc->expressionList())
+          for (auto *x : xc->expressionList()->expression())
+            cls.external.args.push_back(expression(x));
       } else if (auto *el = dynamic_cast<LsdParser::ElementListContext *>(child)) {
         for (auto *e : el->element())
           element(e, cls, isProtected);

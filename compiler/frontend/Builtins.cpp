@@ -2,6 +2,7 @@
 // chain rule, pre, reductions, size, array constructors, math functions)
 // and the dispatch to user functions, which Inline.cpp inlines.
 #include "frontend/Concatenate.h"
+#include "frontend/ExternalObject.h"
 #include "frontend/Flattener.h"
 
 #include "ir/Substitute.h"
@@ -104,6 +105,10 @@ Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
       fn = classes_.resolveClass(fn->shortBase, fn->parent, fn->file);
     if (!fn)
       return std::nullopt;
+    // `Table(...)` of an external object class calls its constructor.
+    if (fn->kind != ast::ClassKind::Function && isExternalObject(*fn))
+      if (const ast::ClassDef *ctor = externalObjectConstructor(*fn))
+        return inlineCall(*ctor, call, scope, env);
     if (fn->kind != ast::ClassKind::Function) {
       report(DiagId::ErrNotAFunction, SourceRange{fname.loc, fname.length},
              {fname.str(), ast::classKindName(fn->kind)});

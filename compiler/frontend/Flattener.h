@@ -316,6 +316,12 @@ public:
   inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
              const Scope &scope, Env *env);
 
+  // ----- ExternalFunctions.cpp
+  /// The outputs of external function `fn` with its inputs bound in `fenv`
+  /// (and its outputs there, unassigned, giving their shapes).
+  std::optional<std::vector<Value>> externalCall(const ast::ClassDef &fn,
+                                                 Env &fenv);
+
   /// Reports through the engine once per (diagnostic, location, text):
   /// a class instantiated many times reports its error once.
   Diagnostic &report(DiagId id, SourceRange range,

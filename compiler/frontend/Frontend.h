@@ -28,6 +28,9 @@ struct FrontendOptions {
   /// --lib directories; then MODELICAPATH's, then ldaec's own library
   /// (LibraryLoader.h).
   std::vector<std::string> libraryPaths;
+  /// Where the compiled C code of external functions is kept (the JIT's
+  /// cache directory); "": a private temporary directory.
+  std::string cacheDir;
 };
 
 /// Parses, checks and flattens `path`; nullptr after reporting errors.

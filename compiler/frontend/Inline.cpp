@@ -4,6 +4,7 @@
 // on variables runs both branches and merges every local with an
 // if-expression, and for-loops over constant ranges unroll. The outputs'
 // final expressions are the call's values.
+#include "frontend/ExternalObject.h"
 #include "frontend/Flattener.h"
 
 #include <functional>
@@ -41,10 +42,6 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   if (inlineDepth > kMaxInlineDepth) {
     report(DiagId::ErrInlineTooDeep, where,
            {fn.name, std::to_string(kMaxInlineDepth)});
-    return std::nullopt;
-  }
-  if (fn.isExternal) {
-    report(DiagId::ErrUnsupported, where, {"external function '" + fn.name + "'"});
     return std::nullopt;
   }
   // `extends Modelica.Icons.Function`: a base that declares nothing (an
@@ -140,8 +137,22 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     }
     return false;
   };
+  // An external function also takes Strings and external objects.
+  auto externalOnlyType = [&](const ast::Name &type) {
+    if (!fn.isExternal)
+      return false;
+    if (!type.global && type.parts.size() == 1 && type.parts[0] == "String")
+      return true;
+    const ast::ClassDef *cls =
+        classes_.resolveClass(type, &fn, fn.file, /*report=*/false);
+    return cls && !cls->isShort && isExternalObject(*cls);
+  };
+  auto isStringType = [](const ast::Name &type) {
+    return !type.global && type.parts.size() == 1 && type.parts[0] == "String";
+  };
   for (const ast::Component &c : fn.components) {
-    if (!numericType(c.typeName)) {
+    if (!numericType(c.typeName) &&
+        !(fn.isExternal && externalOnlyType(c.typeName))) {
       report(DiagId::ErrUnsupported, c.typeName.loc,
              {"function variables of type '" + c.typeName.str() + "'"});
       return std::nullopt;
@@ -157,13 +168,13 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
         value = lower(*arg, scope, env);
         if (!value)
           return std::nullopt;
-        if (value->isString) {
+        if (value->isString != (fn.isExternal && isStringType(c.typeName))) {
           report(DiagId::ErrArgumentType, SourceRange{arg->loc, arg->length},
                  {c.name, fn.name, "a number", "a string"});
           return std::nullopt;
         }
         // Declared sizes: `:` takes the argument's size.
-        bool ok = value->shape.size() == c.dims.size();
+        bool ok = value->isString || value->shape.size() == c.dims.size();
         for (size_t k = 0; ok && k < c.dims.size(); ++k) {
           if (c.dims[k]->kind == ast::ExprKind::Colon)
             continue;
@@ -227,6 +238,8 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     }
     fenv.set(c.name, std::move(*value));
   }
+  if (fn.isExternal)
+    return externalCall(fn, fenv);
   if (execStatements(fn.algorithm, fn, Scope{nullptr, &fn}, fenv) !=
       ExecResult::Ok)
     return std::nullopt;

@@ -4,6 +4,7 @@
 // and, for Real/Integer/Boolean leaves, its scalars created as IR variables
 // or parameters. Elaboration is on demand, so a declaration may use a
 // parameter declared after it; a real cycle is an error.
+#include "frontend/ExternalObject.h"
 #include "frontend/Flattener.h"
 #include "ir/Query.h"
 
@@ -210,6 +211,10 @@ bool Flattener::resolveType(InstNode &node) {
       }
       node.builtin = BuiltinType::Integer;
       node.enumeration = cls;
+      break;
+    }
+    if (!cls->isShort && isExternalObject(*cls)) {
+      node.builtin = BuiltinType::Real; // the handle (ExternalObject.h)
       break;
     }
     if (!cls->isShort) {

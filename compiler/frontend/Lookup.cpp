@@ -342,6 +342,20 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
                         {ref.refName(), t.node->typeName});
           return std::nullopt;
         }
+        // A scalar String parameter is its binding, known when compiling
+        // (depth-limited: a binding may name itself).
+        static thread_local unsigned stringDepth_ = 0;
+        if (t.node->builtin == BuiltinType::String && sel->shape.empty() &&
+            sel->targets.size() == 1 && t.node->mod && t.node->mod->value &&
+            t.node->variability != ast::Variability::Continuous &&
+            stringDepth_ < 16) {
+          ++stringDepth_;
+          std::optional<Value> bound =
+              lower(*t.node->mod->value, t.node->mod->scope, nullptr);
+          --stringDepth_;
+          if (bound && bound->isString)
+            return bound;
+        }
         if (t.node->builtin == BuiltinType::String ||
             t.slot >= static_cast<int64_t>(t.node->slots.size())) {
           report(DiagId::ErrStringComponent,

@@ -358,6 +358,14 @@ std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
     std::optional<Value> a = lower(*e.ops[0], scope, env);
     if (!a)
       return std::nullopt;
+    // `false and b`, `true or b` with the left side known when compiling
+    // do not need b (MSL's tables: `tableOnFile and fileName <> "NoName"
+    // and not isEmpty(fileName)`, b a string function ldaec cannot inline).
+    if ((e.binOp == ast::BinOp::And || e.binOp == ast::BinOp::Or) &&
+        a->isScalar())
+      if (std::optional<double> known = constantValue(a->scalarExpr());
+          known && (*known != 0) == (e.binOp == ast::BinOp::Or))
+        return Value::scalar(c.constant(*known != 0 ? 1 : 0));
     std::optional<Value> b = lower(*e.ops[1], scope, env);
     if (!b)
       return std::nullopt;
@@ -365,6 +373,22 @@ std::optional<Value> Flattener::lower(const ast::Expr &e, const Scope &scope,
     if (a->isString || b->isString) {
       if (e.binOp == ast::BinOp::Add && a->isString && b->isString)
         return Value::string(a->str + b->str);
+      // Strings are known when compiling: a comparison is a constant.
+      if (a->isString && b->isString) {
+        int order = a->str.compare(b->str);
+        std::optional<bool> holds;
+        switch (e.binOp) {
+        case ast::BinOp::Eq: holds = order == 0; break;
+        case ast::BinOp::Ne: holds = order != 0; break;
+        case ast::BinOp::Lt: holds = order < 0; break;
+        case ast::BinOp::Le: holds = order <= 0; break;
+        case ast::BinOp::Gt: holds = order > 0; break;
+        case ast::BinOp::Ge: holds = order >= 0; break;
+        default: break;
+        }
+        if (holds)
+          return Value::scalar(c.constant(*holds ? 1 : 0));
+      }
       report(DiagId::ErrStringOperand, SourceRange{e.loc, e.length}, {op});
       return std::nullopt;
     }

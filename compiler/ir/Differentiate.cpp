@@ -60,6 +60,34 @@ template <typename D> ExprRef chainRule(ExprContext &ctx, ExprRef e, D &&d) {
     }
     return result;
   }
+  case ExprKind::External: {
+    // C code has no symbolic derivative: each partial is a central
+    // difference with a step relative to the argument (eps^(1/3) scale),
+    // itself an expression, so it can be differentiated again.
+    std::vector<ExprRef> terms;
+    std::vector<ExprRef> args(e->operands().begin(), e->operands().end());
+    auto serial = static_cast<uint64_t>(e->constant());
+    for (unsigned i = 0; i < e->numOperands(); ++i) {
+      ExprRef da = d(e->operand(i));
+      if (isZero(da))
+        continue;
+      ExprRef x = e->operand(i);
+      ExprRef h = ctx.mul(ctx.constant(1e-6),
+                          ctx.add(ctx.one(), ctx.call(FuncKind::Abs, x)));
+      std::vector<ExprRef> up = args, down = args;
+      up[i] = ctx.add(x, h);
+      down[i] = ctx.sub(x, h);
+      ExprRef diff =
+          ctx.sub(ctx.external(e->externalId(), e->externalOutput(), up, serial),
+                  ctx.external(e->externalId(), e->externalOutput(), down,
+                               serial));
+      ExprRef factors[] = {diff, ctx.pow(ctx.mul(ctx.constant(2), h),
+                                         ctx.constant(-1)),
+                           da};
+      terms.push_back(ctx.mul(factors));
+    }
+    return ctx.add(terms);
+  }
   case ExprKind::Call: {
     ExprRef a = e->operand(0);
     ExprRef da = d(a);

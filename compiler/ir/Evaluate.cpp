@@ -4,6 +4,7 @@
 // chosen branch of `if` (and short-circuits `and`/`or`), and turns every
 // domain error into an Error naming the failing subexpression.
 #include "ir/Evaluate.h"
+#include "ir/External.h"
 #include "ir/NodeMap.h"
 #include "ir/Print.h"
 
@@ -209,6 +210,20 @@ private:
       if (std::string why = domainProblem(e->func(), a, b); !why.empty())
         return fail(e, why);
       done(e, applyFunc(e->func(), a, b));
+      return true;
+    }
+    case ExprKind::External: {
+      std::vector<double> in;
+      in.reserve(e->numOperands());
+      for (ExprRef op : e->operands())
+        in.push_back(value(op));
+      const ExternalFunction &f = externalFunction(e->externalId());
+      if (!f.entry)
+        return fail(e, "cannot evaluate: '" + f.name + "' is not loaded");
+      double r = callExternal(e->externalId(), in.data(), e->externalOutput());
+      if (std::isnan(r))
+        return fail(e, "'" + f.name + "' returned NaN");
+      done(e, r);
       return true;
     }
     case ExprKind::Compare:

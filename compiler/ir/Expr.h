@@ -29,6 +29,9 @@ enum class ExprKind : uint8_t {
   And,       // n-ary logical and, value 1 or 0
   Or,        // n-ary logical or, value 1 or 0
   Not,       // logical not, value 1 or 0
+  External,  // output k of external function `index` (ir/External.h) at the
+             // operands; an impure call carries a serial in its value so
+             // that two calls are never one node
 };
 
 /// Built-in functions of LANGUAGE.md.
@@ -68,6 +71,8 @@ public:
   VarId var() const { return index_; }                  // Variable, Pre
   unsigned order() const { return order_; }             // Variable
   VarKey varKey() const { return {index_, order_}; }    // Variable
+  uint32_t externalId() const { return index_; }      // External
+  unsigned externalOutput() const { return order_; }  // External
   FuncKind func() const { return static_cast<FuncKind>(sub_); }
   CompareKind compare() const {
     return static_cast<CompareKind>(sub_ & ~kNoEventBit);

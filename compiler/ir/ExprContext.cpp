@@ -42,6 +42,8 @@ template <typename TotalOf> bool computeTotal(ExprRef e, TotalOf &&totalOf) {
             exponent->constant() >= 0) ||
            (base->isConstant() && base->constant() > 0);
   }
+  case ExprKind::External: // C code: no promise about its domain
+    return false;
   case ExprKind::Call:
     switch (e->func()) {
     case FuncKind::Tan:
@@ -184,6 +186,12 @@ ExprRef ExprContext::time() {
 
 ExprRef ExprContext::pre(VarId v) {
   return intern(ExprKind::Pre, 0, v, 0, 0, {});
+}
+
+ExprRef ExprContext::external(uint32_t id, unsigned output,
+                              std::span<const ExprRef> args, uint64_t serial) {
+  return intern(ExprKind::External, 0, id, static_cast<uint16_t>(output),
+                static_cast<double>(serial), args);
 }
 
 bool ExprContext::isTotal(ExprRef e) const { return e->total_; }

@@ -46,6 +46,12 @@ public:
   ExprRef call(FuncKind f, ExprRef a);
   ExprRef call(FuncKind f, ExprRef a, ExprRef b);
 
+  /// Output `output` of external function `id` (ir/External.h) at `args`,
+  /// one double per input of its wrapper. `serial` tells apart calls of an
+  /// impure function (0 for pure ones, which are shared like any node).
+  ExprRef external(uint32_t id, unsigned output, std::span<const ExprRef> args,
+                   uint64_t serial = 0);
+
   // Conditionals and logic. Booleans are expressions valued 0 or 1.
   ExprRef ifThenElse(ExprRef cond, ExprRef then, ExprRef otherwise);
   /// `noEvent`: the relation as written inside noEvent() (Expr::noEvent).

@@ -95,6 +95,12 @@ struct NodeEqual {
       if (a->func() != b->func())
         return false;
       break;
+    case ExprKind::External:
+      if (a->externalId() != b->externalId() ||
+          a->externalOutput() != b->externalOutput() ||
+          a->constant() != b->constant())
+        return false;
+      break;
     case ExprKind::Compare:
       if (a->compare() != b->compare())
         return false;

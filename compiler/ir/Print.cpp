@@ -3,6 +3,7 @@
 // + - (unary minus) < * / < ^ < primaries) and restores `a - b`, `-a` and
 // `a / b` from the canonical forms `a + (-1)*b` and `a * b^-1`.
 #include "ir/Print.h"
+#include "ir/External.h"
 #include "Traverse.h"
 
 #include <algorithm>
@@ -185,6 +186,20 @@ private:
       }
       out_ += ')';
       return;
+    case ExprKind::External: {
+      const ExternalFunction &f = externalFunction(e->externalId());
+      out_ += f.name;
+      if (f.numOutputs > 1)
+        out_ += "[" + std::to_string(e->externalOutput() + 1) + "]";
+      out_ += '(';
+      for (unsigned i = 0; i < e->numOperands(); ++i) {
+        if (i)
+          out_ += ", ";
+        print(e->operand(i), PrecIf, Ctx::Numeric);
+      }
+      out_ += ')';
+      return;
+    }
     case ExprKind::If:
       if (const auto *h = names_ ? names_->homotopyOf(e) : nullptr) {
         out_ += "homotopy(actual = ";
@@ -414,6 +429,8 @@ private:
       return "^";
     case ExprKind::Call:
       return funcName(e->func());
+    case ExprKind::External:
+      return externalFunction(e->externalId()).name;
     case ExprKind::If:
       return "if";
     case ExprKind::Compare:

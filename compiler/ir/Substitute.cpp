@@ -25,6 +25,9 @@ ExprRef rebuild(ExprContext &ctx, ExprRef e, std::span<const ExprRef> ops) {
     return ctx.pow(ops[0], ops[1]);
   case ExprKind::Call:
     return ctx.call(e->func(), ops);
+  case ExprKind::External:
+    return ctx.external(e->externalId(), e->externalOutput(), ops,
+                        static_cast<uint64_t>(e->constant()));
   case ExprKind::If:
     return ctx.ifThenElse(ops[0], ops[1], ops[2]);
   case ExprKind::Compare:

@@ -1,0 +1,501 @@
+// Calls of external "C" functions (MLS 12.9): the function's declaration
+// becomes a C wrapper with the IR's one signature (ir/External.h), built
+// with the declaration's Include text and loaded into this process; each
+// output element of the call is an IR External node. Arguments follow MLS
+// 12.9.1: Real -> double, Integer, Boolean and enumerations -> int, arrays
+// -> pointers to row-major data, outputs that are arguments -> pointers.
+#include "frontend/ExternalLibraries.h"
+#include "frontend/ExternalObject.h"
+#include "frontend/Flattener.h"
+#include "ir/External.h"
+#include "support/SourceManager.h"
+
+#include <openssl/evp.h>
+
+#include <dlfcn.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+namespace ldae::frontend {
+namespace {
+
+enum class CType { Double, Int, String, Object };
+
+const char *cName(CType t) {
+  switch (t) {
+  case CType::Double: return "double";
+  case CType::Int: return "int";
+  case CType::String: return "const char *";
+  case CType::Object: return "void *";
+  }
+  return "double";
+}
+
+/// `s` as a C string literal.
+std::string cLiteral(const std::string &s) {
+  std::string out = "\"";
+  for (unsigned char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += char(c);
+    } else if (c < 32 || c >= 127) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\%03o", c);
+      out += buf;
+    } else {
+      out += char(c);
+    }
+  }
+  return out + "\"";
+}
+
+/// The C sources of the Modelica Standard Library's libraries (its
+/// Resources/C-Sources/readme.txt); zlib is the system's.
+const std::map<std::string, std::vector<std::string>> &knownLibraries() {
+  static const std::map<std::string, std::vector<std::string>> libs = {
+      {"ModelicaStandardTables",
+       {"ModelicaStandardTables.c", "ModelicaStandardTablesUsertab.c"}},
+      {"ModelicaIO", {"ModelicaIO.c"}},
+      {"ModelicaMatIO", {"ModelicaMatIO.c", "snprintf.c"}},
+      {"ModelicaExternalC",
+       {"ModelicaFFT.c", "ModelicaInternal.c", "ModelicaRandom.c",
+        "ModelicaStrings.c"}},
+  };
+  return libs;
+}
+
+/// One argument of the C call.
+struct CArg {
+  std::string literal; // a String argument: its text, known when compiling
+  bool output = false;
+  CType type = CType::Double;
+  bool array = false;
+  size_t offset = 0, count = 1; // in the wrapper's in[] or out[]
+};
+
+/// The strings of annotation `key` of `fn` ("Include", "Library"): a
+/// string or an array of strings.
+std::vector<std::string> annotationStrings(const ast::ClassDef &fn,
+                                           const std::string &key) {
+  std::vector<std::string> out;
+  for (const auto &ann : fn.annotations)
+    for (const ast::Modifier &m : ann->args) {
+      if (m.path.size() != 1 || m.path[0] != key || !m.mod || !m.mod->value)
+        continue;
+      const ast::Expr &v = *m.mod->value;
+      if (v.kind == ast::ExprKind::String)
+        out.push_back(v.text);
+      else if (v.kind == ast::ExprKind::Array)
+        for (const auto &e : v.ops)
+          if (e && e->kind == ast::ExprKind::String)
+            out.push_back(e->text);
+    }
+  return out;
+}
+
+std::string shortHash(const std::string &text) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int len = 0;
+  EVP_Digest(text.data(), text.size(), digest, &len, EVP_sha256(), nullptr);
+  static const char hex[] = "0123456789abcdef";
+  std::string out;
+  for (unsigned i = 0; i < 8 && i < len; ++i) {
+    out += hex[digest[i] >> 4];
+    out += hex[digest[i] & 15];
+  }
+  return out;
+}
+
+bool isCIdentifier(const std::string &s) {
+  if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0])))
+    return false;
+  for (char c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_')
+      return false;
+  return true;
+}
+
+/// The C type of `c`: Real, Integer, Boolean, an enumeration, or a type
+/// that names one through short classes.
+std::optional<CType> externalCType(Flattener &flat, const ast::ClassDef &fn,
+                                   const ast::Component &c) {
+  ast::Name cur = c.typeName;
+  const ast::ClassDef *scope = &fn;
+  uint32_t file = fn.file;
+  for (unsigned guard = 0; guard < 32; ++guard) {
+    if (!cur.global && cur.parts.size() == 1) {
+      if (cur.parts[0] == "Real")
+        return CType::Double;
+      if (cur.parts[0] == "Integer" || cur.parts[0] == "Boolean")
+        return CType::Int;
+      if (cur.parts[0] == "String")
+        return CType::String;
+    }
+    const ast::ClassDef *cls =
+        flat.classes().resolveClass(cur, scope, file, /*report=*/false);
+    if (!cls)
+      return std::nullopt;
+    if (flat.enumerationOf(cls))
+      return CType::Int;
+    if (!cls->isShort && isExternalObject(*cls))
+      return CType::Object;
+    if (!cls->isShort)
+      return std::nullopt;
+    scope = cls->parent;
+    file = cls->file;
+    cur = cls->shortBase;
+  }
+  return std::nullopt;
+}
+
+} // namespace
+
+namespace {
+
+/// The directory of `fn`'s IncludeDirectory annotation (MLS 12.9.4), ""
+/// when there is none on disk; an error for a URI ldaec cannot resolve.
+Expected<std::string> libraryDirectory(const ast::ClassDef &fn,
+                                       const SourceManager &sourceFiles) {
+  // IncludeDirectory (MLS 12.9.4), default modelica://<top>/Resources/Include;
+  // the MSL's points at Resources/C-Sources, where its libraries' sources
+  // are too.
+  const ast::ClassDef *top = &fn;
+  while (top->parent)
+    top = top->parent;
+  std::vector<std::string> dirs = annotationStrings(fn, "IncludeDirectory");
+  std::string uri = dirs.empty() ? "modelica://" + top->name + "/Resources/Include"
+                                 : dirs[0];
+  const std::string scheme = "modelica://";
+  std::string rest = uri.substr(0, scheme.size()) == scheme
+                         ? uri.substr(scheme.size())
+                         : std::string();
+  std::string first = rest.substr(0, rest.find('/'));
+  if (rest.empty() || first != top->name) {
+    if (dirs.empty())
+      return std::string();
+    return Error{"IncludeDirectory \"" + uri + "\" (only modelica://" +
+                 top->name + "/... is)"};
+  }
+  std::filesystem::path file = sourceFiles.path(top->file);
+  if (file.filename() != "package.mo")
+    return std::string();
+  std::filesystem::path dir =
+      file.parent_path() / rest.substr(std::min(rest.size(), first.size() + 1));
+  std::error_code ec;
+  return std::filesystem::is_directory(dir, ec) ? dir.string() : std::string();
+}
+
+/// Builds and loads the C libraries of `fn`'s Library annotation that
+/// ldaec compiles from sources; adds the others to `wrapper` (-l). Returns
+/// an error text, "" when all is well.
+std::string loadLibraries(const ast::ClassDef &fn, const std::string &sources,
+                          CBuild &wrapper, const std::string &cacheDir) {
+  std::vector<std::string> names = annotationStrings(fn, "Library");
+  // ldaec's ModelicaUtilities first, then the libraries in reverse order:
+  // each one's symbols are global before a library that calls them loads.
+  std::vector<CBuild> builds;
+  bool needsUtilities = false;
+  for (auto it = names.rbegin(); it != names.rend(); ++it) {
+    const std::string &name = *it;
+    if (name == "zlib" || name == "m") {
+      wrapper.libraries.push_back(name == "zlib" ? "z" : "m");
+      continue;
+    }
+    auto known = knownLibraries().find(name);
+    if (known == knownLibraries().end() || sources.empty()) {
+      wrapper.libraries.push_back(name); // a system library: -lname
+      continue;
+    }
+    CBuild lib;
+    for (const std::string &f : known->second)
+      lib.files.push_back(sources + "/" + f);
+    lib.includeDirs.push_back(sources);
+    lib.defines.push_back("HAVE_ZLIB=1");
+    // The library's own usertab stands in when the user gives none.
+    lib.defines.push_back("DUMMY_FUNCTION_USERTAB=1");
+    lib.libraries = {"z", "m"};
+    builds.push_back(std::move(lib));
+    needsUtilities = true;
+  }
+  if (needsUtilities) {
+    CBuild utilities;
+    utilities.source = modelicaUtilitiesSource();
+    builds.insert(builds.begin(), std::move(utilities));
+  }
+  for (const CBuild &b : builds)
+    if (auto handle = loadCBuild(b, cacheDir); !handle)
+      return handle.error();
+  return "";
+}
+
+} // namespace
+
+std::optional<std::vector<Value>>
+Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
+  const ast::ClassDef::ExternalClause &x = fn.external;
+  SourceRange at{x.loc, x.length};
+  if (x.language != "C") {
+    report(DiagId::ErrUnsupported, at,
+           {"external language \"" + x.language + "\""});
+    return std::nullopt;
+  }
+  std::vector<const ast::Component *> outputs;
+  for (const ast::Component &c : fn.components)
+    if (c.prefix.causality == ast::Causality::Output)
+      outputs.push_back(&c);
+  auto component = [&](const std::string &name) -> const ast::Component * {
+    for (const ast::Component &c : fn.components)
+      if (c.name == name)
+        return &c;
+    return nullptr;
+  };
+
+  // The call as written, or the default mapping: the function's own name,
+  // the inputs in order, the one output returned.
+  std::string cFunction = x.function.empty() ? fn.name : x.function;
+  const ast::Component *returned = nullptr;
+  std::vector<const ast::Expr *> argExprs;
+  std::vector<ast::ExprPtr> defaultArgs;
+  if (x.function.empty()) {
+    if (outputs.size() > 1) {
+      report(DiagId::ErrUnsupported, at,
+             {"an external function with several outputs and no external "
+              "call written"});
+      return std::nullopt;
+    }
+    returned = outputs.empty() ? nullptr : outputs[0];
+    for (const ast::Component &c : fn.components)
+      if (c.prefix.causality == ast::Causality::Input) {
+        auto ref = std::make_unique<ast::Expr>();
+        ref->kind = ast::ExprKind::Ref;
+        ref->loc = c.loc;
+        ref->parts.push_back({c.name, {}});
+        argExprs.push_back(ref.get());
+        defaultArgs.push_back(std::move(ref));
+      }
+  } else {
+    if (x.output) {
+      returned = x.output->parts.size() == 1 &&
+                         x.output->parts[0].subscripts.empty()
+                     ? component(x.output->parts[0].name)
+                     : nullptr;
+      if (!returned || returned->prefix.causality != ast::Causality::Output ||
+          !returned->dims.empty()) {
+        report(DiagId::ErrUnsupported,
+               SourceRange{x.output->loc, x.output->length},
+               {"an external call whose result is not a scalar output"});
+        return std::nullopt;
+      }
+    }
+    for (const auto &a : x.args)
+      argExprs.push_back(a.get());
+  }
+  if (!isCIdentifier(cFunction)) {
+    report(DiagId::ErrUnsupported, at,
+           {"external function name '" + cFunction + "'"});
+    return std::nullopt;
+  }
+
+  // Output slots in out[]: the returned value first, then output arguments.
+  std::vector<ir::ExprRef> in;
+  std::vector<CArg> args;
+  std::map<const ast::Component *, size_t> outOffset;
+  size_t numOut = 0;
+  auto typeOf = [&](const ast::Component &c) -> std::optional<CType> {
+    std::optional<CType> t = externalCType(*this, fn, c);
+    if (!t)
+      report(DiagId::ErrUnsupported, c.typeName.loc,
+             {"external function arguments of type '" + c.typeName.str() +
+              "'"});
+    return t;
+  };
+  std::optional<CType> returnType;
+  if (returned) {
+    returnType = typeOf(*returned);
+    if (!returnType)
+      return std::nullopt;
+    if (*returnType == CType::String) {
+      report(DiagId::ErrUnsupported, at,
+             {"external functions returning a String"});
+      return std::nullopt;
+    }
+    outOffset[returned] = numOut++;
+  }
+  Scope fscope{nullptr, &fn};
+  for (const ast::Expr *e : argExprs) {
+    CArg arg;
+    const ast::Component *c =
+        e->kind == ast::ExprKind::Ref && e->parts.size() == 1 &&
+                e->parts[0].subscripts.empty()
+            ? component(e->parts[0].name)
+            : nullptr;
+    if (c && c->prefix.causality == ast::Causality::Output) {
+      std::optional<CType> t = typeOf(*c);
+      if (!t)
+        return std::nullopt;
+      if (outOffset.count(c)) {
+        report(DiagId::ErrUnsupported, SourceRange{e->loc, e->length},
+               {"an output passed twice to an external function"});
+        return std::nullopt;
+      }
+      if (*t == CType::String || *t == CType::Object) {
+        report(DiagId::ErrUnsupported, SourceRange{e->loc, e->length},
+               {"string or external object outputs passed as arguments"});
+        return std::nullopt;
+      }
+      arg.output = true;
+      arg.type = *t;
+      arg.array = !c->dims.empty();
+      arg.count = fenv.find(c->name)->size();
+      arg.offset = numOut;
+      outOffset[c] = numOut;
+      numOut += arg.count;
+      args.push_back(arg);
+      continue;
+    }
+    if (c) {
+      std::optional<CType> t = typeOf(*c);
+      if (!t)
+        return std::nullopt;
+      arg.type = *t;
+    } else if (e->kind == ast::ExprKind::Call && e->text == "size") {
+      arg.type = CType::Int; // MLS 12.9.1.1: size() is an int
+    } else if (e->kind == ast::ExprKind::Number && e->number == std::floor(e->number)) {
+      arg.type = CType::Int;
+    }
+    std::optional<Value> v = lower(*e, fscope, &fenv);
+    if (!v)
+      return std::nullopt;
+    if (v->isString != (arg.type == CType::String) ||
+        (arg.type == CType::Object && !v->shape.empty())) {
+      report(DiagId::ErrUnsupported, SourceRange{e->loc, e->length},
+             {"this argument of an external function"});
+      return std::nullopt;
+    }
+    if (v->isString) {
+      arg.literal = v->str;
+      args.push_back(arg);
+      continue;
+    }
+    arg.array = !v->shape.empty();
+    arg.offset = in.size();
+    arg.count = v->size();
+    in.insert(in.end(), v->elems.begin(), v->elems.end());
+    args.push_back(arg);
+  }
+  for (const ast::Component *c : outputs)
+    if (!outOffset.count(c)) {
+      report(DiagId::ErrUnsupported, at,
+             {"output '" + c->name + "' not passed to the external call"});
+      return std::nullopt;
+    }
+
+  // The wrapper: converts, calls, stores every output.
+  std::vector<std::string> includes = annotationStrings(fn, "Include");
+  std::ostringstream src;
+  src << "#include <stdint.h>\n";
+  for (const std::string &inc : includes)
+    src << inc << "\n";
+  std::string ret = returned ? cName(*returnType) : "void";
+  if (includes.empty()) {
+    src << "extern " << ret << " " << cFunction << "(";
+    for (size_t i = 0; i < args.size(); ++i) {
+      const CArg &a = args[i];
+      src << (i ? ", " : "")
+          << (a.output || !a.array || a.type == CType::String ? "" : "const ")
+          << cName(a.type) << (a.output || a.array ? " *" : "");
+    }
+    src << (args.empty() ? "void" : "") << ");\n";
+  }
+  std::string body;
+  {
+    std::ostringstream w;
+    w << "(const double *in, double *out) {\n";
+    std::string call = cFunction + "(";
+    for (size_t i = 0; i < args.size(); ++i) {
+      const CArg &a = args[i];
+      std::string v = "a" + std::to_string(i);
+      if (a.type == CType::String) {
+        w << "  const char *" << v << " = " << cLiteral(a.literal) << ";\n";
+      } else if (a.type == CType::Object) {
+        w << "  void *" << v << " = (void *)(uintptr_t)in[" << a.offset
+          << "];\n";
+      } else if (a.array || a.output) {
+        w << "  " << cName(a.type) << " " << v << "[" << std::max<size_t>(1, a.count)
+          << "];\n";
+        if (!a.output)
+          w << "  for (int i = 0; i < " << a.count << "; ++i) " << v << "[i] = ("
+            << cName(a.type) << ")in[" << a.offset << " + i];\n";
+      } else {
+        w << "  " << cName(a.type) << " " << v << " = (" << cName(a.type) << ")in["
+          << a.offset << "];\n";
+      }
+      call += (i ? ", " : "") + v;
+    }
+    call += ")";
+    if (returned && *returnType == CType::Object)
+      w << "  out[0] = (double)(uintptr_t)" << call << ";\n";
+    else if (returned)
+      w << "  out[0] = (double)" << call << ";\n";
+    else
+      w << "  " << call << ";\n";
+    for (size_t i = 0; i < args.size(); ++i)
+      if (args[i].output)
+        w << "  for (int i = 0; i < " << args[i].count << "; ++i) out["
+          << args[i].offset << " + i] = (double)a" << i << "[i];\n";
+    w << "}\n";
+    body = w.str();
+  }
+  std::string symbol = "ldaeext_" + cFunction + "_" + shortHash(src.str() + body);
+  src << "void " << symbol << body;
+
+  CBuild build;
+  build.source = src.str();
+  build.libraries = {"m"};
+  Expected<std::string> sources = libraryDirectory(fn, diags_.sources());
+  if (!sources) {
+    report(DiagId::ErrUnsupported, at, {sources.error()});
+    return std::nullopt;
+  }
+  if (!sources->empty())
+    build.includeDirs.push_back(*sources);
+  if (std::string e = loadLibraries(fn, *sources, build, opts_.cacheDir);
+      !e.empty()) {
+    report(DiagId::ErrExternalBuild, at, {fn.name, e});
+    return std::nullopt;
+  }
+  auto handle = loadCBuild(build, opts_.cacheDir);
+  if (!handle) {
+    report(DiagId::ErrExternalBuild, at, {fn.name, handle.error()});
+    return std::nullopt;
+  }
+  auto entry = reinterpret_cast<ir::ExternalEntry>(dlsym(*handle, symbol.c_str()));
+  if (!entry) {
+    report(DiagId::ErrExternalBuild, at, {fn.name, dlerror()});
+    return std::nullopt;
+  }
+  ir::ExternalFunction f;
+  f.name = fn.name;
+  f.symbol = symbol;
+  f.numInputs = in.size();
+  f.numOutputs = numOut;
+  f.entry = entry;
+  uint32_t id = ir::registerExternal(f);
+
+  std::vector<Value> results;
+  for (const ast::Component *c : outputs) {
+    Value v = *fenv.find(c->name);
+    size_t base = outOffset[c];
+    for (size_t k = 0; k < v.elems.size(); ++k)
+      v.elems[k] = ctx().external(id, unsigned(base + k), in);
+    results.push_back(std::move(v));
+  }
+  return results;
+}
+
+} // namespace ldae::frontend
