@@ -56,11 +56,14 @@ bool DelayLines::start(double t, const double *te, const double *discrete,
   return true;
 }
 
+bool DelayLines::differs(const Line &l, double v) {
+  return l.d > 0 && v != l.last && !(std::isnan(v) && std::isnan(l.last));
+}
+
 void DelayLines::record(double t, const double *te) {
   for (Line &l : lines_) {
     double v = te[l.offset];
-    // With d = 0 the update gives e itself: nothing is due later.
-    if (l.d <= 0 || v == l.last || (std::isnan(v) && std::isnan(l.last)))
+    if (!differs(l, v))
       continue;
     // A value that replaces one due at the same instant (several events
     // at one time) keeps only the last.
@@ -70,6 +73,15 @@ void DelayLines::record(double t, const double *te) {
       l.due.emplace_back(t + l.d, v);
     l.last = v;
   }
+}
+
+bool DelayLines::moved(const double *te) const {
+  for (const Line &l : lines_) {
+    double v = te[l.offset];
+    if (differs(l, v))
+      return true;
+  }
+  return false;
 }
 
 double DelayLines::next(double t) const {

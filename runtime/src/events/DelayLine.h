@@ -31,6 +31,8 @@ public:
   /// After an event at t settled: each e whose value changed is due,
   /// with its new value, at t + d.
   void record(double t, const double *te);
+  /// Whether some e has a value other than the one recorded last.
+  bool moved(const double *te) const;
   /// The first instant a delayed value is due strictly after t, or
   /// +infinity.
   double next(double t) const;
@@ -46,6 +48,10 @@ private:
     double last = 0; // e's value recorded last
     std::deque<std::pair<double, double>> due; // (instant, value), by time
   };
+  /// Whether e's value v is one to queue: it moved, and d > 0 (with
+  /// d = 0 the update gives e itself, nothing is due later).
+  static bool differs(const Line &l, double v);
+
   const ldae_model &m_;
   std::vector<Line> lines_;
 };

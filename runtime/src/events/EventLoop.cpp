@@ -177,6 +177,13 @@ void EventLoop::noteJump(double t, const std::vector<double> &before,
 
 bool EventLoop::observed(double t, const std::vector<double> &y,
                          const std::vector<double> &yp) {
+  // A delayed expression that moved shows d later: the run restarts and
+  // aims at that instant (DelayLine.h) even when nothing reads it now.
+  if (!delays_.empty()) {
+    std::vector<double> te = timeEventValues(t, y.data(), yp.data());
+    if (!te.empty() && delays_.moved(te.data()))
+      return true;
+  }
   // The discrete values before this update are still the pre() values.
   double *cur = ev_.discrete();
   std::vector<double> now(cur, cur + nd_);
