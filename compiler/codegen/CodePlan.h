@@ -203,7 +203,8 @@ struct EventPlan {
   /// terminate fired] (ldae_model::event_update).
   int update = -1;
   std::vector<int> thresholdRelation, sampleDiscrete;
-  /// out = [thresholds | start, interval of each sample, in pairs].
+  /// out = [thresholds | start, interval of each sample, in pairs |
+  /// source, delay time, maximum of each delay, in threes].
   int timeEvents = -1;
   std::vector<std::string> assertMessage, assertOrigin;
   std::vector<int> assertLevel;

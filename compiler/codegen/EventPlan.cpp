@@ -18,6 +18,7 @@ int abiKind(ir::DiscreteKind k) {
   case ir::DiscreteKind::Sample: return LDAE_DISCRETE_SAMPLE;
   case ir::DiscreteKind::Initial: return LDAE_DISCRETE_INITIAL;
   case ir::DiscreteKind::Terminal: return LDAE_DISCRETE_TERMINAL;
+  case ir::DiscreteKind::Delay: return LDAE_DISCRETE_DELAY;
   }
   return LDAE_DISCRETE_VARIABLE;
 }
@@ -115,6 +116,20 @@ Expected<bool> planEventTables(const ir::DaeSystem &sys, EventPlan &plan,
     c.present(start, "a sample start");
     c.present(interval, "a sample interval");
   }
+  // The runtime finds the delays by their kind, in discrete order.
+  std::vector<uint32_t> delayed;
+  for (size_t k = 0; k < nd; ++k)
+    if (ev.discrete[k].kind == ir::DiscreteKind::Delay)
+      delayed.push_back(uint32_t(k));
+  c.count(ev.delays.size(), delayed.size(), "the delays");
+  for (size_t j = 0; j < ev.delays.size() && j < delayed.size(); ++j) {
+    c.require(ev.delays[j].discrete == delayed[j],
+              "delay " + std::to_string(j) + " is not the discrete value " +
+                  std::to_string(delayed[j]));
+    c.present(ev.delays[j].source, "a delayed expression");
+    c.present(ev.delays[j].time, "a delay time");
+    c.present(ev.delays[j].max, "a maximum delay");
+  }
   for (const ir::AssertCheck &a : ev.asserts) {
     c.present(a.condition, "an assert");
     plan.assertMessage.push_back(a.message);
@@ -146,6 +161,11 @@ EventFunctionValues eventFunctionValues(const ir::EventSystem &ev) {
   for (const auto &[start, interval] : ev.samples) {
     v.timeEvents.push_back(start);
     v.timeEvents.push_back(interval);
+  }
+  for (const ir::DelayInput &d : ev.delays) {
+    v.timeEvents.push_back(d.source);
+    v.timeEvents.push_back(d.time);
+    v.timeEvents.push_back(d.max);
   }
   for (const ir::AssertCheck &a : ev.asserts)
     v.asserts.push_back(a.condition);

@@ -5,6 +5,7 @@
 #include "frontend/ExternalObject.h"
 #include "frontend/Flattener.h"
 
+#include "ir/Query.h"
 #include "ir/Substitute.h"
 
 #include <cmath>
@@ -354,6 +355,50 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
                        ir::printLsd(interval, model_.get()) + ")";
     return Value::scalar(
         eventInput(ir::EventInput::Sample, text, start, interval, call.loc));
+  }
+  if (name == "delay") {
+    // delay(e, d[, dMax]): a discrete input the runtime sets from e's
+    // history (docs/events.md, "delay()"). d of parameters only: with a
+    // d that varies, the delayed value would jump where t - d(t) crosses
+    // an event of e, a crossing no time event gives.
+    if (!argCount(2, 3) || !lowerArgs())
+      return std::nullopt;
+    for (size_t i = 0; i < args.size(); ++i)
+      if (!args[i].isScalar()) {
+        report(DiagId::ErrExpectedScalar,
+               SourceRange{call.args[i].value->loc, call.args[i].value->length},
+               {"argument of 'delay'", describeShape(args[i].shape)});
+        return std::nullopt;
+      }
+    auto ofParameters = [](ir::ExprRef e) {
+      return ir::freeVariables(e).empty() && !ir::dependsOnTime(e);
+    };
+    for (size_t i = 1; i < args.size(); ++i) {
+      ir::ExprRef e = args[i].scalarExpr();
+      if (ofParameters(e))
+        continue;
+      const ast::Expr &a = *call.args[i].value;
+      report(i == 2 ? DiagId::ErrDelayMaxNotParameter
+             : args.size() == 3 ? DiagId::ErrDelayTimeVarying
+                                : DiagId::ErrDelayTimeNotParameter,
+             SourceRange{a.loc, a.length}, {ir::printLsd(e, model_.get())});
+      return std::nullopt;
+    }
+    std::string text = "delay(";
+    for (size_t i = 0; i < args.size(); ++i)
+      text += (i ? ", " : "") + ir::printLsd(args[i].scalarExpr(), model_.get());
+    text += ")";
+    if (std::optional<ir::VarId> v = model_->findVariable(text))
+      return Value::scalar(c.var(*v));
+    ir::Variable v;
+    v.name = text;
+    v.loc = call.loc;
+    v.isDiscrete = true;
+    v.input = ir::EventInput::Delay;
+    v.delayed = args[0].scalarExpr();
+    v.delayTime = args[1].scalarExpr();
+    v.delayMax = args.size() == 3 ? args[2].scalarExpr() : nullptr;
+    return Value::scalar(c.var(model_->addVariable(std::move(v))));
   }
   if (name == "edge" || name == "change") {
     // edge(b) = b and not pre(b); change(v) = v <> pre(v).

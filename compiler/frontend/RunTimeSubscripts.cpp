@@ -13,28 +13,39 @@
 
 #include "ir/Traverse.h"
 
+#include <unordered_set>
+
 namespace ldae::frontend {
 
 bool Flattener::isIntegerValued(ir::ExprRef index) {
-  bool integer = true;
-  ir::ExprRef root[] = {index};
-  ir::postOrder(std::span<const ir::ExprRef>(root), [&](ir::ExprRef e) {
+  std::vector<ir::ExprRef> todo{index};
+  std::unordered_set<ir::ExprRef> seen{index};
+  while (!todo.empty()) {
+    ir::ExprRef e = todo.back();
+    todo.pop_back();
     switch (e->kind()) {
     case ir::ExprKind::Time:
-      integer = false;
-      break;
+      return false;
     case ir::ExprKind::Variable:
-    case ir::ExprKind::Pre: {
-      const ir::Variable &v = model_->variables[e->var()];
-      if (!v.isInteger && !v.isBoolean)
-        integer = false;
+    case ir::ExprKind::Pre:
+      if (!model_->variables[e->var()].isInteger &&
+          !model_->variables[e->var()].isBoolean)
+        return false;
+      continue;
+    case ir::ExprKind::Call:
+      // integer(), floor() and ceil() are whole whatever they read
+      // (TransportDelay's `LogicValues[integer(delay(xr, delayTime))]`).
+      if (e->func() == ir::FuncKind::Floor || e->func() == ir::FuncKind::Ceil)
+        continue;
       break;
-    }
     default:
       break;
     }
-  });
-  return integer;
+    for (ir::ExprRef op : e->operands())
+      if (seen.insert(op).second)
+        todo.push_back(op);
+  }
+  return true;
 }
 
 Value Flattener::selectAtRunTime(Value v,

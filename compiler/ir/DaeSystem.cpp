@@ -39,6 +39,11 @@ void forEachEventExpr(EventSystem &ev,
     f(start);
     f(interval);
   }
+  for (DelayInput &d : ev.delays) {
+    f(d.source);
+    f(d.time);
+    f(d.max);
+  }
   for (AssertCheck &a : ev.asserts)
     f(a.condition);
 }

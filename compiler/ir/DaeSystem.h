@@ -75,7 +75,9 @@ struct SystemOutput {
 };
 
 /// What a discrete value is (ldae_model::discrete_kind, LDAE_DISCRETE_*).
-enum class DiscreteKind { Variable, Relation, When, Sample, Initial, Terminal };
+enum class DiscreteKind {
+  Variable, Relation, When, Sample, Initial, Terminal, Delay
+};
 
 /// One value of the discrete state. Continuous expressions read its current
 /// value as Parameter(parameterValues.size() + k) and its pre() value as
@@ -106,6 +108,15 @@ struct AssertCheck {
   SourceLoc loc;
 };
 
+/// `delay(e, d, dMax)` of an e that changes at events only: the discrete
+/// value `discrete` takes, d after each event, e's value after it. source
+/// reads only parameters and discrete values; time and max (d again in
+/// the two-argument form) only parameters.
+struct DelayInput {
+  ExprRef source = nullptr, time = nullptr, max = nullptr;
+  uint32_t discrete = 0;
+};
+
 /// The event part of a system (docs/events.md; ldae_model's ABI 6 fields).
 /// Every expression is over the layout rule, like outputs.
 struct EventSystem {
@@ -126,6 +137,9 @@ struct EventSystem {
   /// sample(start, interval): its discrete index.
   std::vector<std::pair<ExprRef, ExprRef>> samples;
   std::vector<uint32_t> sampleDiscrete;
+  /// delay() of values that change at events (docs/events.md, "delay()"),
+  /// in the order of their discrete values.
+  std::vector<DelayInput> delays;
   std::vector<AssertCheck> asserts;
   /// Variable structure: the discrete values choosing this mode's
   /// branches, and the values this system was built for.

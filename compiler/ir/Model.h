@@ -23,7 +23,9 @@ const char *stateSelectName(StateSelect s); // "never", ... as in lsd
 /// pass (which turns it into a discrete value of the matching kind). Its
 /// name is the call as written (`initial()`, `sample(0, 0.1)`) and prints
 /// verbatim.
-enum class EventInput : uint8_t { None, Initial, Terminal, Sample };
+/// Delay: `delay(e, d)` of an `e` that changes only at events, set by the
+/// runtime to e's value d seconds earlier (docs/events.md, "delay()").
+enum class EventInput : uint8_t { None, Initial, Terminal, Sample, Delay };
 
 /// A scalar unknown. Its derivatives are Variable nodes of higher order.
 struct Variable {
@@ -56,6 +58,9 @@ struct Variable {
   /// function the events pass keeps at its crossings): never reported.
   bool generated = false;
   ExprRef sampleStart = nullptr, sampleInterval = nullptr; // input Sample
+  /// input Delay: the delayed expression, the delay time and the maximum
+  /// delay (null in the two-argument form), as written.
+  ExprRef delayed = nullptr, delayTime = nullptr, delayMax = nullptr;
 };
 
 /// A parameter or constant: a value fixed for a run.

@@ -40,6 +40,10 @@ struct Slot {
   bool timeRelation = false;
   ir::ExprRef threshold = nullptr; // time relation: the other side
   ir::CompareKind timeCompare = ir::CompareKind::Lt; // time <op> threshold
+  /// Delay: the delayed expression as the integrator reads the discrete
+  /// values (their current and pre() Parameters, relations frozen), with
+  /// the variables that change at events only replaced by their values.
+  ir::ExprRef delayed = nullptr;
 };
 
 ir::DiscreteKind inputKind(ir::EventInput in) {
@@ -50,6 +54,8 @@ ir::DiscreteKind inputKind(ir::EventInput in) {
     return ir::DiscreteKind::Terminal;
   case ir::EventInput::Sample:
     return ir::DiscreteKind::Sample;
+  case ir::EventInput::Delay:
+    return ir::DiscreteKind::Delay;
   case ir::EventInput::None:
     break;
   }
@@ -140,6 +146,10 @@ private:
   bool partitionEquations();
   void collectSlots();
   void addParameters();
+  bool resolveDelays(ir::Substitution &frozen);
+  ir::ExprRef atEventsOnly(ir::ExprRef e, ir::Substitution &frozen,
+                           std::set<ir::VarId> &visiting,
+                           std::string &varying);
   bool defineVariables(std::vector<ir::ExprRef> &def);
   ir::ExprRef risen(size_t clause);
   ir::ExprRef fired(size_t clause);
@@ -488,6 +498,74 @@ void EventBuilder::collectSlots() {
   }
 }
 
+/// delay(e, d) is set by the runtime from the values e took after each
+/// event, which is e's whole history only when e changes at events alone:
+/// it reads discrete values, pre() and relations, or variables that the
+/// continuous equations give from those (MSL's TransportDelay delays `xr`
+/// of `xr = Integer(pre(x))`). A delay of what varies between events
+/// would need the runtime to keep and interpolate a continuous history:
+/// refused at the call.
+bool EventBuilder::resolveDelays(ir::Substitution &frozen) {
+  bool ok = true;
+  for (Slot &s : slots_) {
+    if (s.kind != ir::DiscreteKind::Delay)
+      continue;
+    const ir::Variable &v = m_.variables[s.var];
+    std::set<ir::VarId> visiting;
+    std::string varying;
+    s.delayed = atEventsOnly(frozen.apply(v.delayed), frozen, visiting,
+                             varying);
+    if (s.delayed)
+      continue;
+    pc_.diags.report(DiagId::ErrDelayContinuous, v.loc, {v.name, varying});
+    ok = false;
+  }
+  return ok;
+}
+
+/// `e` (in the frozen form) with each continuous variable replaced by the
+/// value an equation gives it from values that change at events only;
+/// null, with the first variable (or `time`) that varies between events in
+/// `varying`, when there is none.
+ir::ExprRef EventBuilder::atEventsOnly(ir::ExprRef e, ir::Substitution &frozen,
+                                       std::set<ir::VarId> &visiting,
+                                       std::string &varying) {
+  if (ir::dependsOnTime(e)) {
+    varying = "time";
+    return nullptr;
+  }
+  // pre() of a continuous variable (those of discrete ones are Parameters
+  // in the frozen form) follows it between events.
+  for (ir::ExprRef n : ir::topologicalOrder(std::span(&e, 1)))
+    if (n->kind() == ir::ExprKind::Pre) {
+      varying = "pre(" + m_.variables[n->var()].name + ")";
+      return nullptr;
+    }
+  ir::Substitution given(ctx_);
+  for (ir::VarKey k : ir::freeVariables(e)) {
+    if (k.order != 0 || !visiting.insert(k.var).second) {
+      varying = m_.variableName(k);
+      return nullptr;
+    }
+    ir::ExprRef value = nullptr;
+    for (const ir::Equation &eq : continuous_) {
+      if (!ir::dependsOn(eq.residual, k))
+        continue;
+      ir::ExprRef f = ir::solveLinear(ctx_, frozen.apply(eq.residual), k.var);
+      std::string inner;
+      if (f && (value = atEventsOnly(f, frozen, visiting, inner)))
+        break;
+    }
+    visiting.erase(k.var);
+    if (!value) {
+      varying = m_.variableName(k);
+      return nullptr;
+    }
+    given.set(ctx_.var(k.var), value);
+  }
+  return given.apply(e);
+}
+
 void EventBuilder::markStructural(ir::ExprRef e) {
   for (ir::ParamId p : ir::freeParameters(e))
     if (p < m_.parameters.size())
@@ -788,6 +866,22 @@ bool EventBuilder::buildUpdate() {
     case ir::DiscreteKind::When:
       def_[k] = sd.apply(s.condition);
       break;
+    case ir::DiscreteKind::Delay: {
+      // MLS 3.7.4.1: e(time.start) until start + d, so e's own value
+      // while initial() holds (the runtime keeps the value the
+      // initialization ends with); with d = 0, e's value always. After
+      // that, the value the runtime set from e's history.
+      ir::Substitution held(ctx_);
+      for (size_t j = 0; j < K; ++j)
+        if (slots_[j].kind == ir::DiscreteKind::Variable)
+          held.set(pre(j), preDuringInitialization(j));
+      ir::ExprRef now = ctx_.logicalOr(
+          cur(static_cast<size_t>(initialSlot_)),
+          ctx_.compare(ir::CompareKind::Le, m_.variables[s.var].delayTime,
+                       ctx_.zero()));
+      def_[k] = ctx_.ifThenElse(now, held.apply(s.delayed), cur(k));
+      break;
+    }
     default: // inputs: the runtime sets them; the update copies them
       def_[k] = cur(k);
       break;
@@ -961,6 +1055,12 @@ bool EventBuilder::buildTimeEvents() {
       }
       out_.samples.push_back({parts[0], parts[1]});
       out_.sampleDiscrete.push_back(static_cast<uint32_t>(k));
+    } else if (s.kind == ir::DiscreteKind::Delay) {
+      // Without a maximum, d itself: the check d <= max holds.
+      const ir::Variable &v = m_.variables[s.var];
+      out_.delays.push_back({s.delayed, v.delayTime,
+                             v.delayMax ? v.delayMax : v.delayTime,
+                             static_cast<uint32_t>(k)});
     }
   }
   for (const ir::Assert &a : m_.asserts)
@@ -1074,8 +1174,11 @@ bool EventBuilder::run() {
     m_.variables[v].isDiscrete = discrete_[v];
   initialDiscreteValues();
   // when-clauses and the discrete initialization need initial() to know
-  // the initial event.
-  if ((!m_.whenClauses.empty() || !discreteInitial_.empty()) &&
+  // the initial event, and so does delay() (e's own value at the start).
+  bool anyDelay = false;
+  for (const ir::Variable &v : m_.variables)
+    anyDelay = anyDelay || v.input == ir::EventInput::Delay;
+  if ((!m_.whenClauses.empty() || !discreteInitial_.empty() || anyDelay) &&
       !m_.findVariable("initial()")) {
     ir::Variable v;
     v.name = "initial()";
@@ -1100,7 +1203,8 @@ bool EventBuilder::run() {
       sc.set(ctx_.pre(s.var), pre(k));
     }
   }
-  bool ok = checkWhenLoops() && buildUpdate() && solveInitialPreValues();
+  bool ok = resolveDelays(sc) && checkWhenLoops() && buildUpdate() &&
+            solveInitialPreValues();
   ok = buildTimeEvents() && ok;
   for (ir::Equation &e : continuous_)
     e.residual = sc.apply(e.residual);
@@ -1118,7 +1222,8 @@ bool EventBuilder::run() {
   chooseMode();
   EventsReport rep;
   static const char *kinds[] = {"variable", "relation", "when",
-                                "sample",   "initial",  "terminal"};
+                                "sample",   "initial",  "terminal",
+                                "delay"};
   for (const ir::DiscreteValue &d : out_.discrete)
     rep.discrete.push_back(d.name + " (" + kinds[static_cast<int>(d.kind)] +
                            ")");
@@ -1187,6 +1292,9 @@ bool fillEvents(PassContext &pc, const EventResult &ev,
   for (const auto &[start, interval] : ev.samples)
     es.samples.push_back({apply(start), apply(interval)});
   es.sampleDiscrete = ev.sampleDiscrete;
+  for (const ir::DelayInput &d : ev.delays)
+    es.delays.push_back(
+        {apply(d.source), apply(d.time), apply(d.max), d.discrete});
   for (const ir::AssertCheck &a : ev.asserts)
     es.asserts.push_back({apply(a.condition), a.message, a.level, a.loc});
   for (const ir::TerminateUpdate &t : ev.terminates)

@@ -41,6 +41,7 @@ struct EventResult {
   std::vector<uint32_t> thresholdRelation;
   std::vector<std::pair<ir::ExprRef, ir::ExprRef>> samples;
   std::vector<uint32_t> sampleDiscrete;
+  std::vector<ir::DelayInput> delays;
   std::vector<ir::AssertCheck> asserts;
   std::vector<uint32_t> modeDiscrete;
   std::vector<double> modeValues;

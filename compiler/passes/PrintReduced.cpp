@@ -66,6 +66,10 @@ void printEvents(const ir::DaeSystem &sys, ir::Substitution &subst,
   for (size_t j = 0; j < ev.samples.size(); ++j)
     out << "  //   sample from " << lsd(ev.samples[j].first) << " every "
         << lsd(ev.samples[j].second) << "\n";
+  for (const ir::DelayInput &d : ev.delays)
+    out << "  //   delay '" << ev.discrete[d.discrete].name << "' of "
+        << lsd(d.source) << " by " << lsd(d.time) << " (at most "
+        << lsd(d.max) << ")\n";
   for (size_t k = 0; k < ev.update.size(); ++k)
     out << "  //   update '" << ev.discrete[k].name
         << "' := " << lsd(ev.update[k]) << "\n";

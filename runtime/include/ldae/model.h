@@ -25,7 +25,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 9
+#define LDAE_ABI_VERSION 10
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -80,7 +80,12 @@ enum {
   LDAE_DISCRETE_SAMPLE = 3,   /* sample(start, interval): 1 at its instants,
                                  set by the runtime */
   LDAE_DISCRETE_INITIAL = 4,  /* initial(): 1 during the initial event */
-  LDAE_DISCRETE_TERMINAL = 5  /* terminal(): 1 during the terminal event */
+  LDAE_DISCRETE_TERMINAL = 5, /* terminal(): 1 during the terminal event */
+  LDAE_DISCRETE_DELAY = 6     /* delay(e, d) of an e that changes at events
+                                 only (ABI 10): e's value d earlier, set by
+                                 the runtime at time events; the update
+                                 copies it, but gives e itself during the
+                                 initial event and when d <= 0 */
 };
 
 /* One choice of states for dynamic state selection. All sets share the
@@ -261,13 +266,16 @@ typedef struct ldae_model {
   /* Time events, hit exactly (a stop time of the integrator, no root
      search): out = [the threshold of each time relation (n_time_thresholds:
      `time >= t0` gives t0) | start and interval of each sample
-     (2 * n_samples)]. They read only t, parameters and discrete values;
-     the runtime evaluates them again after each event. */
+     (2 * n_samples) | for each discrete value of kind LDAE_DISCRETE_DELAY,
+     in discrete order: the delayed expression's current value, the delay
+     time and the maximum delay (the delay time when none is given)]. They
+     read only t, parameters and discrete values; the runtime evaluates
+     them again after each event. */
   int n_time_thresholds;
   const int *threshold_relation;       /* n_time_thresholds: discrete index */
   int n_samples;
   const int *sample_discrete;          /* n_samples: discrete index */
-  ldae_outputs_fn time_events;         /* NULL when both counts are 0 */
+  ldae_outputs_fn time_events;         /* NULL when there are none */
 
   /* assert(condition, message, level): out = 1/0 per assert, checked at
      every output row and event. Level 0 error (the run stops, status 3),

@@ -29,21 +29,31 @@ bool differs(double a, double b) {
 
 EventLoop::EventLoop(ModelEval &ev, double rtol, std::ostream *log)
     : ev_(ev), m_(ev.model()), nd_(std::max(ev.model().n_discrete, 0)),
-      rtol_(rtol), log_(log),
+      rtol_(rtol), log_(log), delays_(ev.model()),
       reinitScale_(std::max(ev.model().n_reinit, 0), 0.0) {
   if (nd_ > 0)
     out_.resize(nd_ + 2 * std::max(m_.n_reinit, 0) +
                 std::max(m_.n_terminate, 0));
 }
 
+std::vector<double> EventLoop::timeEventValues(double t, const double *y,
+                                               const double *yp) const {
+  int nth = std::max(m_.n_time_thresholds, 0), ns = std::max(m_.n_samples, 0);
+  std::vector<double> te(nth + 2 * ns + 3 * delays_.size());
+  if (!active() || !m_.time_events || te.empty() ||
+      m_.time_events(t, y, yp, ev_.params(), te.data()) != 0)
+    te.clear();
+  return te;
+}
+
 double EventLoop::nextTimeEvent(double t, const double *y,
                                 const double *yp) const {
-  double next = std::numeric_limits<double>::infinity();
+  double next = delays_.next(t);
   int nth = std::max(m_.n_time_thresholds, 0), ns = std::max(m_.n_samples, 0);
-  if (!active() || !m_.time_events || nth + ns == 0)
+  if (nth + ns == 0)
     return next;
-  std::vector<double> te(nth + 2 * ns);
-  if (m_.time_events(t, y, yp, ev_.params(), te.data()) != 0)
+  std::vector<double> te = timeEventValues(t, y, yp);
+  if (te.empty())
     return next;
   for (int i = 0; i < nth; ++i)
     if (te[i] > t)
@@ -63,9 +73,9 @@ double EventLoop::nextTimeEvent(double t, const double *y,
 
 bool EventLoop::sampleInstant(int s, double t, const double *y,
                               const double *yp) const {
-  int nth = std::max(m_.n_time_thresholds, 0), ns = m_.n_samples;
-  std::vector<double> te(nth + 2 * ns);
-  if (!m_.time_events || m_.time_events(t, y, yp, ev_.params(), te.data()))
+  int nth = std::max(m_.n_time_thresholds, 0);
+  std::vector<double> te = timeEventValues(t, y, yp);
+  if (te.empty())
     return false;
   double s0 = te[nth + 2 * s], iv = te[nth + 2 * s + 1];
   if (!(iv > 0) || t < s0)
@@ -167,6 +177,13 @@ void EventLoop::noteJump(double t, const std::vector<double> &before,
 
 bool EventLoop::observed(double t, const std::vector<double> &y,
                          const std::vector<double> &yp) {
+  // A delayed expression that moved shows d later: the run restarts and
+  // aims at that instant (DelayLine.h) even when nothing reads it now.
+  if (!delays_.empty()) {
+    std::vector<double> te = timeEventValues(t, y.data(), yp.data());
+    if (!te.empty() && delays_.moved(te.data()))
+      return true;
+  }
   // The discrete values before this update are still the pre() values.
   double *cur = ev_.discrete();
   std::vector<double> now(cur, cur + nd_);
@@ -216,6 +233,15 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
   const int nr = std::max(m_.n_reinit, 0), nt = std::max(m_.n_terminate, 0);
   double *cur = ev_.discrete();
   std::vector<double> before = y, entry(cur, cur + nd_);
+  // A delayed value released at this time event (DelayLine.h) is already
+  // in place, and the update copies it: its change is against pre(), its
+  // value before the event (which later rounds move along with it).
+  auto delayed = [&](int k) {
+    return m_.discrete_kind && m_.discrete_kind[k] == LDAE_DISCRETE_DELAY;
+  };
+  for (int k = 0; k < nd_; ++k)
+    if (delayed(k))
+      entry[k] = ev_.pre()[k];
   std::vector<bool> changedAny(nd_, false), changed(nd_);
   std::vector<double> fired(nr, std::numeric_limits<double>::quiet_NaN());
   bool visible = false;
@@ -248,7 +274,8 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
                          : "terminate()";
     bool any = false;
     for (int k = 0; k < nd_; ++k) {
-      changed[k] = differs(next[k], cur[k]);
+      changed[k] = differs(next[k], cur[k]) ||
+                   (delayed(k) && differs(next[k], ev_.pre()[k]));
       any |= changed[k];
       if (changed[k])
         changedAny[k] = true;
@@ -444,6 +471,14 @@ void EventLoop::settle(int kind, double t, const double *y, const double *yp) {
   std::copy(ev_.discrete(), ev_.discrete() + nd_, ev_.pre());
 }
 
+void EventLoop::recordDelays(double t, const double *y, const double *yp) {
+  if (delays_.empty())
+    return;
+  std::vector<double> te = timeEventValues(t, y, yp);
+  if (!te.empty())
+    delays_.record(t, te.data());
+}
+
 EventOutcome EventLoop::initial(double t, std::vector<double> &y,
                                 std::vector<double> &yp,
                                 const Reinitialize &reinit) {
@@ -460,6 +495,15 @@ EventOutcome EventLoop::initial(double t, std::vector<double> &y,
   if (out == EventOutcome::Failed || out == EventOutcome::ModeChange ||
       out == EventOutcome::Terminated)
     return out;
+  if (!delays_.empty()) {
+    std::vector<double> te = timeEventValues(t, y.data(), yp.data());
+    if (te.empty() || !delays_.start(t, te.data(), ev_.discrete(), message_)) {
+      if (te.empty())
+        message_ = fmt::format("t = {:.10g}: the delay times could not be "
+                               "evaluated", t);
+      return EventOutcome::Failed;
+    }
+  }
   // Initialization is over: what its values set off (`x = pre(v)` moving
   // as pre(v) := v, `change(x) and not initial()`, `not initial()`)
   // happens in the event iteration at the start time, as Dymola runs
@@ -470,6 +514,8 @@ EventOutcome EventLoop::initial(double t, std::vector<double> &y,
   EventOutcome after = iterate(t, y, yp, reinit);
   if (after == EventOutcome::Handled && !recent_.empty())
     recent_.pop_back();
+  if (after != EventOutcome::Failed && after != EventOutcome::ModeChange)
+    recordDelays(t, y.data(), yp.data());
   if (after == EventOutcome::Unchanged ||
       (after == EventOutcome::Restarted && out != EventOutcome::Unchanged))
     return out;
@@ -481,6 +527,9 @@ EventOutcome EventLoop::handle(double t, std::vector<double> &y,
                                const Reinitialize &reinit) {
   std::copy(ev_.discrete(), ev_.discrete() + nd_, ev_.pre());
   bool sampled = false;
+  // A delayed value due now is an input of this event, as a sample is.
+  if (timeEvent)
+    delays_.release(t, ev_.discrete());
   if (timeEvent)
     for (int s = 0; s < m_.n_samples; ++s)
       if (sampleInstant(s, t, y.data(), yp.data())) {
@@ -506,12 +555,23 @@ EventOutcome EventLoop::handle(double t, std::vector<double> &y,
     ++events_;
     timeEvents_ += timeEvent;
   }
+  if (out != EventOutcome::Failed && out != EventOutcome::ModeChange)
+    recordDelays(t, y.data(), yp.data());
   return out;
 }
 
 EventOutcome EventLoop::resume(double t, std::vector<double> &y,
                                std::vector<double> &yp,
                                const Reinitialize &reinit) {
+  // Each mode's model has its own event loop: the history of e would
+  // stay behind in the old one.
+  if (!delays_.empty()) {
+    message_ = fmt::format("t = {:.10g}: the structure changed in a model "
+                           "with delay(), whose history does not carry "
+                           "over to the new mode: not supported",
+                           t);
+    return EventOutcome::Failed;
+  }
   std::copy(ev_.discrete(), ev_.discrete() + nd_, ev_.pre());
   EventOutcome out = iterate(t, y, yp, reinit);
   // Counted in the old mode already.

@@ -7,6 +7,7 @@
 // (Simulator.cpp owns the integrator and the initialization).
 #pragma once
 
+#include "events/DelayLine.h"
 #include "model/ModelEval.h"
 
 #include <deque>
@@ -126,6 +127,11 @@ private:
   void settle(int kind, double t, const double *y, const double *yp);
   void setKind(int kind, double v);
   bool sampleInstant(int s, double t, const double *y, const double *yp) const;
+  /// time_events' output at t (empty when it fails or there is none).
+  std::vector<double> timeEventValues(double t, const double *y,
+                                      const double *yp) const;
+  /// After an event settled at t: delay() lines take e's new values.
+  void recordDelays(double t, const double *y, const double *yp);
   EventOutcome checkAccumulation(double t, std::vector<double> &y,
                                  const std::vector<double> &fired);
   bool modeChanged() const;
@@ -139,6 +145,7 @@ private:
   int set_ = 0;
   const int *states_ = nullptr; // of set_; null before setStateSet
   std::vector<double> out_; // event_update's output
+  DelayLines delays_;
   std::string message_;
   long events_ = 0, timeEvents_ = 0, jumps_ = 0;
 
