@@ -208,6 +208,8 @@ struct ClassDef {
   std::string name;
   ClassKind kind = ClassKind::Model;
   bool partial = false;
+  /// `impure function`: calls may differ with the same arguments.
+  bool impure = false;
   bool encapsulated = false;
   bool expandable = false;
   SourceLoc loc;

@@ -187,6 +187,7 @@ private:
     cls->encapsulated = c->ENCAPSULATED() != nullptr;
     auto *p = c->classPrefixes();
     cls->partial = p->PARTIAL() != nullptr;
+    cls->impure = p->IMPURE() != nullptr;
     cls->expandable = p->EXPANDABLE() != nullptr;
     if (p->MODEL())
       cls->kind = ast::ClassKind::Model;
