@@ -68,6 +68,13 @@ Value Flattener::selectAtRunTime(Value v,
         auto element = [&](int64_t j) {
           return v.elems[static_cast<size_t>((o * size + j) * inner + i)];
         };
+        // An empty dimension has no element to read: the range check
+        // below fails wherever the read happens (MSL's MultiSwitch with
+        // nu = 0 reads it only under a condition that is then false).
+        if (size == 0) {
+          out.elems.push_back(ctx().constant(0.0));
+          continue;
+        }
         ir::ExprRef chosen = element(size - 1);
         for (int64_t j = size - 1; j-- > 0;)
           chosen = ctx().ifThenElse(
