@@ -178,26 +178,14 @@ private:
       return;
     case ExprKind::Call:
       out_ += funcName(e->func());
-      out_ += '(';
-      for (unsigned i = 0; i < e->numOperands(); ++i) {
-        if (i)
-          out_ += ", ";
-        print(e->operand(i), PrecIf, Ctx::Numeric);
-      }
-      out_ += ')';
+      emitArguments(e);
       return;
     case ExprKind::External: {
       const ExternalFunction &f = externalFunction(e->externalId());
       out_ += f.name;
       if (f.numOutputs > 1)
         out_ += "[" + std::to_string(e->externalOutput() + 1) + "]";
-      out_ += '(';
-      for (unsigned i = 0; i < e->numOperands(); ++i) {
-        if (i)
-          out_ += ", ";
-        print(e->operand(i), PrecIf, Ctx::Numeric);
-      }
-      out_ += ')';
+      emitArguments(e);
       return;
     }
     case ExprKind::If:
@@ -288,6 +276,17 @@ private:
     } else {
       emitProduct(t, true); // a product prints at PrecMul without its sign
     }
+  }
+
+  /// `(a, b, ...)`: a call's operands.
+  void emitArguments(ExprRef e) {
+    out_ += '(';
+    for (unsigned i = 0; i < e->numOperands(); ++i) {
+      if (i)
+        out_ += ", ";
+      print(e->operand(i), PrecIf, Ctx::Numeric);
+    }
+    out_ += ')';
   }
 
   void emitPower(ExprRef base, ExprRef exponent) {

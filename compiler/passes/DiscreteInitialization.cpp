@@ -52,16 +52,14 @@ bool solveDiscreteInitialization(PassContext &pc, const EventResult &ev,
   // A discrete variable as that round computes it; pre(v) as the unknown,
   // stood for by v's own Variable node, which no update reads (they read
   // slots), so that solveLinear can solve for it.
-  ir::Substitution asUnknowns(ctx), back(ctx), inEquation(ctx);
+  ir::Substitution asUnknowns(ctx), inEquation(ctx);
   for (size_t k = 0; k < K; ++k) {
     if (slots[k].kind != ir::DiscreteKind::Variable)
       continue;
     ir::ExprRef v = ctx.var(slots[k].var);
     ir::ExprRef value = first.apply(ev.update[k]);
-    if (!slots[k].fixed) {
+    if (!slots[k].fixed)
       asUnknowns.set(ctx.param(ev.pre(k)), v);
-      back.set(v, ctx.param(ev.pre(k)));
-    }
     inEquation.set(v, value);
     inEquation.set(ctx.pre(slots[k].var),
                    slots[k].fixed ? ctx.constant(ev.discrete[k].start)
@@ -158,7 +156,8 @@ bool solveDiscreteInitialization(PassContext &pc, const EventResult &ev,
   }
 
   // Inline in that order; a pre() value no equation gives reads its start,
-  // as the first round does.
+  // as the first round does. Every unknown is then replaced: the values
+  // read only continuous unknowns, time and parameters.
   ir::Substitution given(ctx);
   for (size_t j = 0; j < unknowns.size(); ++j)
     if (mt.colMate[j] < 0)
@@ -168,7 +167,7 @@ bool solveDiscreteInitialization(PassContext &pc, const EventResult &ev,
     ir::VarId v = unknowns[static_cast<size_t>(mt.rowMate[e])];
     ir::ExprRef value = given.apply(solved[e][mt.rowMate[e]]);
     given.set(ctx.var(v), value);
-    preValue[slotOfVar[v]] = back.apply(value);
+    preValue[slotOfVar[v]] = value;
   }
   return true;
 }
