@@ -51,7 +51,9 @@ enum class OpCode : uint8_t {
   ExtArg, // argument `index` of an external call: value a; b is argument
           // index - 1 (an ExtArg node; b == a for argument 0)
   ExtCall,// output `value` of CodePlan::externals[index] at the arguments
-          // of the ExtArg chain ending in a (no arguments: a is no ExtArg)
+          // of the ExtArg chain ending in a (no arguments: a is no ExtArg);
+          // sub == 1: called only where b != 0, 0 elsewhere (a branch of
+          // an if not taken); sub == 0: always, b == a
 };
 
 /// True for the leaves that read inputs or constants.
@@ -66,7 +68,6 @@ inline unsigned numOperands(OpCode op) {
   case OpCode::Func1:
   case OpCode::Not:
   case OpCode::Reduce:
-  case OpCode::ExtCall:
     return 1;
   case OpCode::Select:
     return 3;

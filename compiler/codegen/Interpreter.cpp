@@ -162,6 +162,10 @@ void evaluateNodes(const PlanFunction &fn, double t, const double *y,
     case OpCode::Not: r = a == 0; break;
     case OpCode::ExtArg: r = a; break;
     case OpCode::ExtCall: {
+      if (n.sub == 1 && v[n.b] == 0) { // a branch not taken
+        r = 0;
+        break;
+      }
       const PlanExternal &f = fn.externals[n.index];
       std::vector<uint32_t> args = externalArguments(fn.nodes, uint32_t(k));
       std::vector<double> in(args.size()), out(std::max(1u, f.numOutputs));

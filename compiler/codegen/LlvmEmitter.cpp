@@ -261,7 +261,29 @@ private:
     }
     case OpCode::Not: r = boolean(b_.CreateFCmpOEQ(a, zero())); break;
     case OpCode::ExtArg: r = a; break;
-    case OpCode::ExtCall: r = externalCall(k); break;
+    case OpCode::ExtCall: {
+      if (n.sub != 1) {
+        r = externalCall(k);
+        break;
+      }
+      // Only where the guard holds (a branch of an if taken): tables keep
+      // state between calls.
+      llvm::BasicBlock *before = b_.GetInsertBlock();
+      llvm::Function *f = before->getParent();
+      auto *call = llvm::BasicBlock::Create(b_.getContext(), "ext.call", f);
+      auto *done = llvm::BasicBlock::Create(b_.getContext(), "ext.done", f);
+      b_.CreateCondBr(truth(b), call, done);
+      b_.SetInsertPoint(call);
+      llvm::Value *called = externalCall(k);
+      llvm::BasicBlock *callEnd = b_.GetInsertBlock();
+      b_.CreateBr(done);
+      b_.SetInsertPoint(done);
+      llvm::PHINode *phi = b_.CreatePHI(dbl_, 2);
+      phi->addIncoming(zero(), before);
+      phi->addIncoming(called, callEnd);
+      r = phi;
+      break;
+    }
     case OpCode::Reduce: {
       llvm::Value *slot = nullptr;
       if (n.mayFail)

@@ -76,7 +76,7 @@ public:
 
   /// Lowers `e`; on failure records an error and returns node 0.
   uint32_t lower(ExprRef e) {
-    if (auto it = memo_.find(e); it != memo_.end())
+    if (auto it = memo_.find(key(e)); it != memo_.end())
       return it->second;
     // Lower operands first (post-order, not descending into what is already
     // lowered), so the recursion in lowerNode stays shallow however deep
@@ -88,21 +88,28 @@ public:
     stack.assign(1, {e, 0});
     while (!stack.empty()) {
       auto &[x, next] = stack.back();
+      if (next == 0 && guardsBranches(x)) {
+        ExprRef done = x;
+        stack.pop_back();
+        uint32_t k = lowerGuardedIf(done);
+        memo_.emplace(key(done), k);
+        continue;
+      }
       if (next < x->numOperands()) {
         ExprRef operand = x->operand(next++);
-        if (!memo_.count(operand))
+        if (!memo_.count(key(operand)))
           stack.push_back({operand, 0});
         continue;
       }
       ExprRef done = x;
       stack.pop_back();
-      if (!memo_.count(done)) {
+      if (!memo_.count(key(done))) {
         uint32_t k = lowerNode(done);
-        memo_.emplace(done, k);
+        memo_.emplace(key(done), k);
       }
     }
     --depth_;
-    return memo_.at(e);
+    return memo_.at(key(e));
   }
 
   uint32_t emit(PlanNode n) {
@@ -171,6 +178,66 @@ public:
 private:
   uint32_t node(ExprRef e) { return lower(e); }
 
+  static constexpr uint32_t kAlways = UINT32_MAX;
+  using MemoKey = std::pair<ExprRef, uint32_t>;
+  struct MemoHash {
+    size_t operator()(const MemoKey &k) const {
+      return std::hash<ExprRef>()(k.first) * 31 + k.second;
+    }
+  };
+  /// An expression with an external call is lowered once per guard it is
+  /// needed under; every other expression once.
+  MemoKey key(ExprRef e) {
+    return {e, guard_ != kAlways && callsExternal(e) ? guard_ : kAlways};
+  }
+
+  bool callsExternal(ExprRef e) {
+    if (auto it = callsExternal_.find(e); it != callsExternal_.end())
+      return it->second;
+    // Post-order, not descending into what is already known.
+    std::vector<std::pair<ExprRef, unsigned>> stack{{e, 0}};
+    while (!stack.empty()) {
+      auto &[x, next] = stack.back();
+      if (next < x->numOperands()) {
+        ExprRef operand = x->operand(next++);
+        if (!callsExternal_.count(operand))
+          stack.push_back({operand, 0});
+        continue;
+      }
+      bool c = x->kind() == ExprKind::External;
+      for (ExprRef o : x->operands())
+        c = c || callsExternal_.at(o);
+      callsExternal_.emplace(x, c);
+      stack.pop_back();
+    }
+    return callsExternal_.at(e);
+  }
+
+  /// An if-expression with an external call in a branch: the call is made
+  /// only where its branch is taken. MSL's tables keep state between
+  /// calls (CombiTimeTable's next time event advances one interval per
+  /// call), so a when-equation's `getNextTimeEvent(...)` evaluated at an
+  /// event of another clause, as a select evaluates both sides, moved
+  /// BooleanTable's events past the end of its table.
+  bool guardsBranches(ExprRef e) {
+    return e->kind() == ExprKind::If &&
+           (callsExternal(e->operand(1)) || callsExternal(e->operand(2)));
+  }
+
+  uint32_t lowerGuardedIf(ExprRef e) {
+    uint32_t cond = lower(e->operand(0));
+    uint32_t outer = guard_;
+    uint32_t taken = op(OpCode::Compare, cond, constant(0), 0,
+                        uint8_t(ir::CompareKind::Ne));
+    uint32_t notTaken = op(OpCode::Not, cond);
+    guard_ = outer == kAlways ? taken : op(OpCode::And, outer, taken);
+    uint32_t then = lower(e->operand(1));
+    guard_ = outer == kAlways ? notTaken : op(OpCode::And, outer, notTaken);
+    uint32_t otherwise = lower(e->operand(2));
+    guard_ = outer;
+    return op(OpCode::Select, cond, then, otherwise);
+  }
+
   uint32_t lowerNode(ExprRef e) {
     switch (e->kind()) {
     case ExprKind::Constant:
@@ -230,8 +297,10 @@ private:
         fn_.nodes[k].index = int32_t(i);
         last = k;
       }
-      uint32_t call =
-          op(OpCode::ExtCall, e->numOperands() ? last : constant(0));
+      uint32_t args = e->numOperands() ? last : constant(0);
+      uint32_t call = op(OpCode::ExtCall, args,
+                         guard_ == kAlways ? args : guard_, 0,
+                         guard_ == kAlways ? 0 : 1);
       fn_.nodes[call].index = int32_t(e->externalId());
       fn_.nodes[call].value = e->externalOutput();
       return call;
@@ -355,7 +424,11 @@ private:
   const KeyMap &keys_;
   const ir::DaeSystem &sys_;
   unsigned nParams_;
-  std::unordered_map<ExprRef, uint32_t> memo_;
+  std::unordered_map<MemoKey, uint32_t, MemoHash> memo_;
+  std::unordered_map<ExprRef, bool> callsExternal_;
+  /// The node that must be nonzero for the external calls being lowered
+  /// to be made (kAlways: unconditionally).
+  uint32_t guard_ = kAlways;
   std::vector<std::pair<ExprRef, unsigned>> stack_;
   unsigned depth_ = 0;
   std::map<double, uint32_t> consts_;

@@ -245,10 +245,20 @@ void Flattener::flattenIf(const ast::Equation &eq, const Scope &scope,
   }
   // Flatten every branch separately, then merge residual by residual.
   std::vector<std::vector<ir::Equation>> results(branches.size());
+  ir::ExprRef noEarlierBranch = sink.branchTaken;
   for (size_t k = 0; k < branches.size(); ++k) {
     EqSink sub = sink;
     sub.out = &results[k];
     sub.inVariableIf = true;
+    sub.branchTaken = !conds[k] ? noEarlierBranch
+                      : noEarlierBranch
+                          ? ctx().logicalAnd(noEarlierBranch, conds[k])
+                          : conds[k];
+    if (conds[k])
+      noEarlierBranch = noEarlierBranch
+                            ? ctx().logicalAnd(noEarlierBranch,
+                                               ctx().logicalNot(conds[k]))
+                            : ctx().logicalNot(conds[k]);
     for (const ast::Equation &body : *branches[k])
       flattenEquation(body, scope, env, sub);
   }
@@ -375,9 +385,9 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
                               Env *env, EqSink &sink) {
   const ast::Expr &call = *eq.lhs;
   SourceRange where{eq.loc, eq.length};
-  if (sink.when || sink.inVariableIf) {
+  if (sink.when) {
     report(DiagId::ErrMisplaced, where,
-           {"assert", "equations outside when and variable if"});
+           {"assert", "equations outside when"});
     return;
   }
   const ast::Expr *cond = nullptr, *message = nullptr, *level = nullptr;
@@ -421,6 +431,10 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
   }
   // An array condition holds where every element does.
   a.condition = ctx().logicalAnd(c->elems);
+  // In a branch of a variable if-equation it checks while the branch is
+  // taken (LimIntegrator's check of its start, under initial()).
+  if (sink.branchTaken)
+    a.condition = ctx().logicalOr(ctx().logicalNot(sink.branchTaken), a.condition);
   model_->asserts.push_back(std::move(a));
 }
 

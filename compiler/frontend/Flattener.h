@@ -413,6 +413,9 @@ private:
     ir::WhenClause *when = nullptr;
     ir::EquationOrigin origin = ir::EquationOrigin::Declared;
     bool inVariableIf = false;
+    /// Inside a variable if-equation: when its branch is the one taken
+    /// (null outside one).
+    ir::ExprRef branchTaken = nullptr;
   };
   void flattenInstance(InstNode &node);
   /// The connect equations of the whole instance tree, before any other

@@ -414,9 +414,12 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
     case ast::StatementKind::Call:
       if (st.rhs->text == "assert")
         break; // checks at run time are not modelled; the model is unchanged
-      report(DiagId::ErrUnsupported, where,
-             {"calling '" + st.rhs->text + "' as a statement"});
-      return ExecResult::Error;
+      // A pure function called for no result (MSL's isValidTable) changes
+      // nothing but what its asserts check; it is inlined all the same,
+      // so that a call of an unknown or impure function is refused.
+      if (!lowerCallOutputs(*st.rhs, fscope, &env))
+        return ExecResult::Error;
+      break;
     case ast::StatementKind::If:
       if (execIf(st, 0, fn, fscope, env) != ExecResult::Ok)
         return ExecResult::Error;

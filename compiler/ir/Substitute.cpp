@@ -1,11 +1,13 @@
 // Substitution of subexpressions and rebuilding of nodes through the
 // simplifying builders.
 #include "ir/Substitute.h"
+
 #include "Traverse.h"
 #include "ir/Query.h"
 #include "ir/Differentiate.h"
 
 #include <cassert>
+#include <unordered_set>
 
 namespace ldae::ir {
 
@@ -119,18 +121,24 @@ ExprRef solveLinear(ExprContext &ctx, ExprRef r, VarId v) {
       ctx.sub(at(2), r0) == ctx.mul(ctx.constant(2), a))
     return ctx.div(ctx.neg(r0), a);
   // The sums keep `0 * t` for a term t that may be undefined (a division
-  // by a parameter: `count - floor(p0 / p1)`, MSL's Trapezoid), so the
-  // difference above is not a constant. Linear all the same when every
-  // function, if or relation in r reads no variable at all (parameters and
-  // time only: their branch-wise derivatives hide no nonlinearity in v)
-  // and v's coefficient is constant.
+  // by a parameter: `count - floor(p0 / p1)`, MSL's Trapezoid, or
+  // `sa > tau0 / unitTorque` in MSL's friction), so the difference above
+  // is not a constant. Linear all the same when no function, if or
+  // relation in r reads v (the others are constant in v: their
+  // branch-wise derivatives hide no nonlinearity in it) and v's
+  // coefficient is constant.
+  std::unordered_set<const Expr *> readsV;
   for (ExprRef n : topologicalOrder(std::span(&r, 1))) {
     ExprKind k = n->kind();
+    bool reads = k == ExprKind::Variable && n->var() == v;
+    for (ExprRef o : n->operands())
+      reads = reads || readsV.count(o);
+    if (!reads)
+      continue;
+    readsV.insert(n);
     bool arithmetic = k == ExprKind::Add || k == ExprKind::Mul ||
-                      k == ExprKind::Variable || k == ExprKind::Constant ||
-                      k == ExprKind::Parameter || k == ExprKind::Time ||
-                      k == ExprKind::Pre;
-    if (!arithmetic && !freeVariables(n).empty())
+                      k == ExprKind::Variable;
+    if (!arithmetic)
       return nullptr;
   }
   Differentiator d(ctx);
