@@ -82,9 +82,13 @@ std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
   readExperiment(cls, *root_);
   connectSweep_ = true;
   collectConnects(*root_);
+  for (auto &[name, added] : addedInners_)
+    collectConnects(*added.node);
   connectSweep_ = false;
   connectsCollected_ = true;
   flattenInstance(*root_);
+  for (auto &[name, added] : addedInners_)
+    flattenInstance(*added.node);
   buildConnectionEquations();
 
   reportUnusedOverrides();

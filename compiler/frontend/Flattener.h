@@ -523,6 +523,16 @@ private:
   std::unique_ptr<ir::Model> model_;
   std::unique_ptr<ir::Differentiator> diff_;
   std::unique_ptr<InstNode> root_;
+  /// The inner components added at the top for outer ones that have none
+  /// (MLS 5.4), by name, with the class they were added for.
+  struct AddedInner {
+    std::unique_ptr<InstNode> node;
+    const ast::ClassDef *cls = nullptr;
+  };
+  std::map<std::string, AddedInner> addedInners_;
+  /// The inner added at the top for `outer` component `m`, or null when
+  /// another outer of its name has another class (reported).
+  InstNode *addedInner(const InstNode &m);
   /// --param and --override values by name (`p`, `x.start`): value, used.
   std::map<std::string, std::pair<double, bool>> overrides_;
   /// Reports the overrides that named nothing (exit 2 in the driver).

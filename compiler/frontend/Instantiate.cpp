@@ -566,11 +566,11 @@ void Flattener::linkOuterMembers(InstNode &node) {
     if (!m->inner && m->decl->isInner)
       continue;
     m->membersReady = true;
+    if (!m->inner)
+      m->inner = addedInner(*m);
     if (!m->inner) {
       // Failed: its uses say nothing more.
       m->state = InstNode::State::Failed;
-      report(DiagId::ErrNoInner, SourceRange{m->decl->loc, m->decl->length},
-             {m->name, m->decl->typeName.str()});
     } else {
       m->state = InstNode::State::Done;
       ensureElaborated(*m->inner, m->decl->loc);
@@ -586,6 +586,39 @@ void Flattener::linkOuterMembers(InstNode &node) {
       }
     }
   }
+}
+
+InstNode *Flattener::addedInner(const InstNode &m) {
+  // "If there is one (or more identical) outer declarations with the same
+  // name and no matching inner declaration, an inner element is
+  // automatically added at the top of the model and a diagnostic is
+  // given" (MLS 5.4): MSL's noise blocks find their GlobalSeed so, and a
+  // StateGraph step its stateGraphRoot, checked on their own.
+  SourceRange where{m.decl->loc, m.decl->length};
+  uint32_t file = m.declClass ? m.declClass->file : m.decl->loc.file;
+  const ast::ClassDef *cls =
+      classes_.resolveClass(m.decl->typeName, m.declClass, file);
+  std::string type = m.decl->typeName.str();
+  auto it = addedInners_.find(m.name);
+  if (it != addedInners_.end()) {
+    if (it->second.cls == cls)
+      return it->second.node.get();
+    report(DiagId::ErrNoInner, where,
+           {m.name, type, it->second.node->typeName});
+    return nullptr;
+  }
+  if (!cls)
+    return nullptr; // reported by the lookup
+  report(DiagId::WarnInnerAdded, where, {m.name, type});
+  auto added = std::make_unique<InstNode>();
+  added->name = m.name;
+  added->path = m.name;
+  added->parent = root_.get();
+  added->decl = m.decl;
+  added->declClass = m.declClass;
+  InstNode *node = added.get();
+  addedInners_[m.name] = AddedInner{std::move(added), cls};
+  return node;
 }
 
 void Flattener::removeDisabledMembers(InstNode &node) {
