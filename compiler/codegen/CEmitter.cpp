@@ -456,7 +456,9 @@ std::string printEventTables(std::ostream &os, const CodePlan &plan) {
        << table("char *const", "assert_message", ev.assertMessage, str) << ", "
        << table("int", "assert_level", ev.assertLevel, integer) << ", "
        << table("char *const", "assert_origin", ev.assertOrigin, str) << ", "
-       << fnRef(ev.asserts) << ",\n  " << ev.modeDiscrete.size() << ", "
+       << fnRef(ev.asserts) << ", "
+       << table("int", "assert_value_begin", ev.assertValueBegin, integer)
+       << ",\n  " << ev.modeDiscrete.size() << ", "
        << table("int", "mode_discrete", ev.modeDiscrete, integer) << ", "
        << table("double", "mode_values", ev.modeValues, dbl) << ",\n  "
        << rows("dummy_of", ev.dummyOf) << ", "

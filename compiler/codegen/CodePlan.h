@@ -209,7 +209,10 @@ struct EventPlan {
   int timeEvents = -1;
   std::vector<std::string> assertMessage, assertOrigin;
   std::vector<int> assertLevel;
-  int asserts = -1; // out = 1 (holds) or 0 per assert
+  /// Assert i's message values are out[n_asserts + assertValueBegin[i]
+  /// ...] of the asserts function (n_asserts + 1 entries).
+  std::vector<int> assertValueBegin;
+  int asserts = -1; // out = 1 (holds) or 0 per assert, then message values
   std::vector<int> modeDiscrete;
   std::vector<double> modeValues;
   /// Per state set, n entries each; empty: NULL in the ABI.

@@ -130,8 +130,14 @@ Expected<bool> planEventTables(const ir::DaeSystem &sys, EventPlan &plan,
     c.present(ev.delays[j].time, "a delay time");
     c.present(ev.delays[j].max, "a maximum delay");
   }
+  if (!ev.asserts.empty())
+    plan.assertValueBegin.assign(1, 0);
   for (const ir::AssertCheck &a : ev.asserts) {
     c.present(a.condition, "an assert");
+    for (ir::ExprRef v : a.messageValues)
+      c.present(v, "a value of an assert's message");
+    plan.assertValueBegin.push_back(plan.assertValueBegin.back() +
+                                    int(a.messageValues.size()));
     plan.assertMessage.push_back(a.message);
     plan.assertLevel.push_back(a.level);
     plan.assertOrigin.push_back(sourceOrigin(sources, a.loc, ""));
@@ -167,8 +173,12 @@ EventFunctionValues eventFunctionValues(const ir::EventSystem &ev) {
     v.timeEvents.push_back(d.time);
     v.timeEvents.push_back(d.max);
   }
+  // The conditions, then every assert's message values in order.
   for (const ir::AssertCheck &a : ev.asserts)
     v.asserts.push_back(a.condition);
+  for (const ir::AssertCheck &a : ev.asserts)
+    v.asserts.insert(v.asserts.end(), a.messageValues.begin(),
+                     a.messageValues.end());
   return v;
 }
 

@@ -58,6 +58,7 @@ void ModelTables::setEventTables(const EventPlan &ev) {
   m.assert_message = nameTable(ev.assertMessage);
   m.assert_level = intTable(ev.assertLevel);
   m.assert_origin = nameTable(ev.assertOrigin);
+  m.assert_value_begin = intTable(ev.assertValueBegin);
   m.n_mode = int(ev.modeDiscrete.size());
   m.mode_discrete = intTable(ev.modeDiscrete);
   modeValues_ = ev.modeValues;

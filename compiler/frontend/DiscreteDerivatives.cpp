@@ -54,9 +54,17 @@ bool checkDiscreteDerivatives(const ir::Model &model,
       check(eq.residual, eq.loc);
     for (const ir::Reinit &r : w.reinits)
       check(r.value, r.loc);
+    for (const ir::Assert &a : w.asserts) {
+      check(a.condition, a.loc);
+      for (ir::ExprRef v : a.messageValues)
+        check(v, a.loc);
+    }
   }
-  for (const ir::Assert &a : model.asserts)
+  for (const ir::Assert &a : model.asserts) {
     check(a.condition, a.loc);
+    for (ir::ExprRef v : a.messageValues)
+      check(v, a.loc);
+  }
   return ok;
 }
 

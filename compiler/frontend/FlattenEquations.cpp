@@ -385,11 +385,6 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
                               Env *env, EqSink &sink) {
   const ast::Expr &call = *eq.lhs;
   SourceRange where{eq.loc, eq.length};
-  if (sink.when) {
-    report(DiagId::ErrMisplaced, where,
-           {"assert", "equations outside when"});
-    return;
-  }
   const ast::Expr *cond = nullptr, *message = nullptr, *level = nullptr;
   for (size_t i = 0; i < call.args.size(); ++i) {
     const ast::Arg &a = call.args[i];
@@ -405,10 +400,12 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
            {"assert", "2 to 3", std::to_string(call.args.size())});
     return;
   }
+  ir::Assert a;
+  messageValues_ = &a.messageValues;
   std::optional<std::string> text = messageText(*message, "assert", scope, env);
+  messageValues_ = nullptr;
   if (!text)
     return;
-  ir::Assert a;
   a.message = *text;
   a.loc = eq.loc;
   if (level) {
@@ -435,7 +432,7 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
   // taken (LimIntegrator's check of its start, under initial()).
   if (sink.branchTaken)
     a.condition = ctx().logicalOr(ctx().logicalNot(sink.branchTaken), a.condition);
-  model_->asserts.push_back(std::move(a));
+  (sink.when ? sink.when->asserts : model_->asserts).push_back(std::move(a));
 }
 
 std::optional<std::string>

@@ -417,6 +417,9 @@ private:
     /// (null outside one).
     ir::ExprRef branchTaken = nullptr;
   };
+  /// While an assert's message is lowered: the values String() of
+  /// unknowns shows in it, at run time (null elsewhere: refused).
+  std::vector<ir::ExprRef> *messageValues_ = nullptr;
   void flattenInstance(InstNode &node);
   /// The connect equations of the whole instance tree, before any other
   /// equation, so that cardinality() counts them all (Cardinality.cpp).

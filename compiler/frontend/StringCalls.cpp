@@ -1,10 +1,14 @@
 // String(x, ...) (MLS 3.7.1.2), as the Modelica Standard Library builds its
 // assert messages: "uMax (=" + String(uMax) + ") < uMin". The text is made
-// when compiling, so x must have a value then: a constant, or a parameter
+// when compiling where x has a value then: a constant, or a parameter
 // (whose value at compile time the text shows; a message is text, not a
-// result). A value known only at run time is refused, never printed as
-// something else.
+// result). In an assert's message a value known only at run time is a
+// placeholder the runtime fills in when the assert fails
+// (ir/MessageText.h); elsewhere it is refused, never printed as something
+// else.
 #include "frontend/Flattener.h"
+
+#include "ir/MessageText.h"
 
 #include <algorithm>
 #include <cctype>
@@ -80,7 +84,7 @@ std::optional<Value> Flattener::lowerStringCall(const ast::Expr &call,
     return std::nullopt;
   }
   std::optional<double> v = bindingValue(value->scalarExpr());
-  if (!v) {
+  if (!v && !messageValues_) {
     report(DiagId::ErrUnsupported, SourceRange{x->loc, x->length},
            {"String() of a value known only at run time"});
     return std::nullopt;
@@ -95,17 +99,29 @@ std::optional<Value> Flattener::lowerStringCall(const ast::Expr &call,
   if (!sig || !width || !leftJustified)
     return std::nullopt;
   *width = std::clamp<int64_t>(*width, 0, 1000);
+  *sig = std::clamp<int64_t>(*sig, 1, 17);
   char buf[128];
+  std::optional<Value> f;
+  char conversion = 0;
   if (format) {
-    std::optional<Value> f = lower(*format, scope, env);
+    f = lower(*format, scope, env);
     if (!f)
       return std::nullopt;
-    char conversion = 0;
     if (!f->isString || !safeFormat(f->str, conversion)) {
       report(DiagId::ErrUnsupported, SourceRange{format->loc, format->length},
              {"this format of String()"});
       return std::nullopt;
     }
+  }
+  if (!v) {
+    messageValues_->push_back(value->scalarExpr());
+    return Value::string(ir::messagePlaceholder(
+        messageValues_->size() - 1,
+        format ? "%" + f->str
+               : "g" + std::to_string(*sig) + "," + std::to_string(*width) +
+                     "," + (*leftJustified ? "1" : "0")));
+  }
+  if (format) {
     std::string spec = "%" + f->str;
     if (std::string("dixXo").find(conversion) != std::string::npos) {
       spec.insert(spec.size() - 1, "ll");
@@ -121,8 +137,7 @@ std::optional<Value> Flattener::lowerStringCall(const ast::Expr &call,
   if (std::fabs(*v) < 1e15 && *v == std::floor(*v))
     std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(*v));
   else
-    std::snprintf(buf, sizeof buf, "%.*g",
-                  static_cast<int>(std::clamp<int64_t>(*sig, 1, 17)), *v);
+    std::snprintf(buf, sizeof buf, "%.*g", static_cast<int>(*sig), *v);
   std::string text = buf;
   if (static_cast<int64_t>(text.size()) < *width) {
     std::string pad(static_cast<size_t>(*width) - text.size(), ' ');

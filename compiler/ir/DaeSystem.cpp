@@ -44,8 +44,11 @@ void forEachEventExpr(EventSystem &ev,
     f(d.time);
     f(d.max);
   }
-  for (AssertCheck &a : ev.asserts)
+  for (AssertCheck &a : ev.asserts) {
     f(a.condition);
+    for (ExprRef &v : a.messageValues)
+      f(v);
+  }
 }
 
 std::vector<ExprRef> eventExprs(const EventSystem &ev) {

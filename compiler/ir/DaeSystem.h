@@ -103,9 +103,10 @@ struct TerminateUpdate {
 
 struct AssertCheck {
   ExprRef condition = nullptr; // 1 holds, 0 fails
-  std::string message;
+  std::string message; // with placeholders of messageValues (MessageText.h)
   int level = 0; // 0 error, 1 warning
   SourceLoc loc;
+  std::vector<ExprRef> messageValues;
 };
 
 /// `delay(e, d, dMax)` of an e that changes at events only: the discrete

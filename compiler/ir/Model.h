@@ -122,6 +122,16 @@ struct Terminate {
   SourceLoc loc;
 };
 
+/// `assert(condition, "message", level)` in an equation section.
+struct Assert {
+  ExprRef condition = nullptr;
+  std::string message; // with placeholders of messageValues (MessageText.h)
+  int level = 0; // 0 error, 1 warning (AssertionLevel.error / .warning)
+  SourceLoc loc;
+  /// What String() of an unknown shows in the message, at the failure.
+  std::vector<ExprRef> messageValues;
+};
+
 /// `when condition then ... end when;`: kept on the model for the event stage.
 struct WhenClause {
   ExprRef condition = nullptr; // fires when it turns from 0 to 1
@@ -138,14 +148,9 @@ struct WhenClause {
   /// The left side of each of `equations` (a Variable node).
   std::vector<ExprRef> targets;
   std::vector<Terminate> terminates;
-};
-
-/// `assert(condition, "message", level)` in an equation section.
-struct Assert {
-  ExprRef condition = nullptr;
-  std::string message;
-  int level = 0; // 0 error, 1 warning (AssertionLevel.error / .warning)
-  SourceLoc loc;
+  /// Checked where the clause fires (the events pass makes each a
+  /// discrete value the clause assigns and an assert of it).
+  std::vector<Assert> asserts;
 };
 
 /// The `experiment` annotation; unset fields take the driver's defaults.

@@ -3,6 +3,9 @@
 // `m[2].s`) are quoted Modelica-style; only non-default attributes print.
 #include "ir/Model.h"
 
+#include "ir/MessageText.h"
+#include "ir/Print.h"
+
 #include <cmath>
 #include <sstream>
 
@@ -96,10 +99,16 @@ std::string Model::print() const {
     os << "equation\n";
   for (const Equation &eq : equations)
     os << "  " << printEquation(ctx(), eq.residual, this) << ";\n";
-  for (const Assert &a : asserts)
-    os << "  assert(" << printLsd(a.condition, this) << ", "
-       << printString(a.message)
+  auto printAssert = [&](const Assert &a, const char *indent) {
+    std::vector<std::string> values;
+    for (ExprRef v : a.messageValues)
+      values.push_back(printLsd(v, this));
+    os << indent << "assert(" << printLsd(a.condition, this) << ", "
+       << messageExpression(a.message, values)
        << (a.level ? ", AssertionLevel.warning" : "") << ");\n";
+  };
+  for (const Assert &a : asserts)
+    printAssert(a, "  ");
   for (size_t i = 0; i < whenClauses.size(); ++i) {
     const WhenClause &w = whenClauses[i];
     os << (w.elsewhen ? "  elsewhen " : "  when ");
@@ -126,6 +135,8 @@ std::string Model::print() const {
     }
     for (const Terminate &t : w.terminates)
       os << "    terminate(" << printString(t.message) << ");\n";
+    for (const Assert &a : w.asserts)
+      printAssert(a, "    ");
     if (i + 1 == whenClauses.size() || !whenClauses[i + 1].elsewhen)
       os << "  end when;\n";
   }

@@ -143,6 +143,8 @@ private:
   /// model: they fix it (ir::Parameter::structural).
   void markStructural(ir::ExprRef e);
   void stepFunctionEvents();
+  void whenAsserts();
+  void derivativesOutsideEquations();
   bool partitionEquations();
   void collectSlots();
   void addParameters();
@@ -309,6 +311,102 @@ EventBuilder::PreEquation EventBuilder::initialPreValue(const ir::Equation &e) {
   return PreEquation::Several;
 }
 
+/// An assert in a when-clause (MSL's hard stops check their start in
+/// `when initial() then assert(...)`) is checked where the clause fires:
+/// the clause assigns its condition to a discrete Boolean, and each value
+/// its message shows to a discrete Real, and an ordinary assert of the
+/// Boolean, checked at the rows after the event, reports them.
+void EventBuilder::whenAsserts() {
+  size_t count = 0;
+  auto generated = [&](const std::string &name, bool isBoolean, double start,
+                       SourceLoc loc) {
+    ir::Variable v;
+    v.name = name + " #" + std::to_string(++count);
+    v.loc = loc;
+    v.isDiscrete = v.generated = true;
+    v.isBoolean = isBoolean;
+    v.start = start;
+    v.hasStart = v.fixed = true;
+    return ctx_.var(m_.addVariable(std::move(v)));
+  };
+  for (ir::WhenClause &w : m_.whenClauses) {
+    auto assign = [&](ir::ExprRef target, ir::ExprRef value, SourceLoc loc) {
+      ir::Equation e;
+      e.residual = ctx_.sub(target, value);
+      e.loc = loc;
+      e.text = m_.variables[target->var()].name + " = " +
+               ir::printLsd(value, &m_);
+      w.equations.push_back(std::move(e));
+      w.targets.push_back(target);
+    };
+    for (ir::Assert &a : w.asserts) {
+      std::string what = "assert(" + ir::printLsd(a.condition, &m_) + ")";
+      ir::ExprRef holds = generated(what, true, 1, a.loc);
+      assign(holds, a.condition, a.loc);
+      for (ir::ExprRef &v : a.messageValues) {
+        ir::ExprRef kept = generated(ir::printLsd(v, &m_), false, 0, a.loc);
+        assign(kept, v, a.loc);
+        v = kept;
+      }
+      a.condition = holds;
+      m_.asserts.push_back(std::move(a));
+    }
+    w.asserts.clear();
+  }
+}
+
+/// der(y) read only where no equation reads it (OpenModelica's
+/// derInWhenCondition: `when der(y) < 0 then`, y algebraic) is an unknown
+/// of its own, d = der(y) an equation of the system, so that the
+/// structural analysis differentiates y's equations for it; it reached
+/// code generation as no unknown of the system.
+void EventBuilder::derivativesOutsideEquations() {
+  std::set<ir::VarKey> inEquations;
+  for (const ir::Equation &e : m_.equations)
+    for (ir::VarKey k : ir::freeVariables(e.residual))
+      inEquations.insert(k);
+  std::vector<ir::ExprRef *> places;
+  for (ir::WhenClause &w : m_.whenClauses) {
+    places.push_back(&w.condition);
+    for (ir::ExprRef &c : w.elements)
+      places.push_back(&c);
+    for (ir::Equation &e : w.equations)
+      places.push_back(&e.residual);
+    for (ir::Reinit &r : w.reinits)
+      places.push_back(&r.value);
+  }
+  for (ir::Assert &a : m_.asserts) {
+    places.push_back(&a.condition);
+    for (ir::ExprRef &v : a.messageValues)
+      places.push_back(&v);
+  }
+  ir::Substitution derivative(ctx_);
+  bool any = false;
+  for (ir::ExprRef *place : places)
+    for (ir::VarKey k : ir::freeVariables(*place)) {
+      if (k.order == 0 || inEquations.count(k))
+        continue;
+      inEquations.insert(k);
+      ir::ExprRef der = ctx_.var(k.var, k.order);
+      ir::Variable v;
+      v.name = ir::printLsd(der, &m_);
+      v.loc = m_.variables[k.var].loc;
+      v.generated = true;
+      ir::ExprRef d = ctx_.var(m_.addVariable(std::move(v)));
+      ir::Equation e;
+      e.residual = ctx_.sub(d, der);
+      e.loc = m_.variables[k.var].loc;
+      e.text = m_.variables[d->var()].name + " = " + ir::printLsd(der, &m_);
+      m_.equations.push_back(std::move(e));
+      derivative.set(der, d);
+      any = true;
+    }
+  if (!any)
+    return;
+  for (ir::ExprRef *place : places)
+    *place = derivative.apply(*place);
+}
+
 /// floor(x) and ceil(x) (integer(x) is floor) of a continuous or
 /// time-dependent x jump where x crosses an integer. Each becomes a
 /// discrete Integer k, assigned at the crossings by
@@ -390,8 +488,11 @@ void EventBuilder::stepFunctionEvents() {
     for (ir::ExprRef &c : w.elements)
       c = stepOf.apply(c);
   }
-  for (ir::Assert &a : m_.asserts)
+  for (ir::Assert &a : m_.asserts) {
     a.condition = stepOf.apply(a.condition);
+    for (ir::ExprRef &v : a.messageValues)
+      v = stepOf.apply(v);
+  }
   for (ir::WhenClause &w : clauses)
     m_.whenClauses.push_back(std::move(w));
 }
@@ -1063,8 +1164,12 @@ bool EventBuilder::buildTimeEvents() {
                              static_cast<uint32_t>(k)});
     }
   }
-  for (const ir::Assert &a : m_.asserts)
-    out_.asserts.push_back({sr.apply(a.condition), a.message, a.level, a.loc});
+  for (const ir::Assert &a : m_.asserts) {
+    ir::AssertCheck check{sr.apply(a.condition), a.message, a.level, a.loc, {}};
+    for (ir::ExprRef v : a.messageValues)
+      check.messageValues.push_back(sr.apply(v));
+    out_.asserts.push_back(std::move(check));
+  }
   return ok;
 }
 
@@ -1161,6 +1266,8 @@ void EventBuilder::chooseMode() {
 }
 
 bool EventBuilder::run() {
+  whenAsserts();
+  derivativesOutsideEquations();
   discrete_ = ir::discreteVariables(m_);
   stepFunctionEvents();
   bool anyRelation = false;
@@ -1295,8 +1402,12 @@ bool fillEvents(PassContext &pc, const EventResult &ev,
   for (const ir::DelayInput &d : ev.delays)
     es.delays.push_back(
         {apply(d.source), apply(d.time), apply(d.max), d.discrete});
-  for (const ir::AssertCheck &a : ev.asserts)
-    es.asserts.push_back({apply(a.condition), a.message, a.level, a.loc});
+  for (const ir::AssertCheck &a : ev.asserts) {
+    ir::AssertCheck check{apply(a.condition), a.message, a.level, a.loc, {}};
+    for (ir::ExprRef v : a.messageValues)
+      check.messageValues.push_back(apply(v));
+    es.asserts.push_back(std::move(check));
+  }
   for (const ir::TerminateUpdate &t : ev.terminates)
     es.terminates.push_back({apply(t.fired), t.message});
   es.modeDiscrete = ev.modeDiscrete;

@@ -4,6 +4,7 @@
 // the reduced model's meaning; residuals are printed as `0 = r`.
 #include "passes/Pipeline.h"
 
+#include "ir/MessageText.h"
 #include "ir/Print.h"
 #include "ir/Substitute.h"
 
@@ -79,9 +80,14 @@ void printEvents(const ir::DaeSystem &sys, ir::Substitution &subst,
   for (const ir::TerminateUpdate &t : ev.terminates)
     out << "  //   terminate \"" << t.message << "\" where " << lsd(t.fired)
         << "\n";
-  for (const ir::AssertCheck &a : ev.asserts)
-    out << "  //   assert " << lsd(a.condition) << " \"" << a.message
-        << "\"" << (a.level ? " (warning)" : "") << "\n";
+  for (const ir::AssertCheck &a : ev.asserts) {
+    std::vector<std::string> values;
+    for (ir::ExprRef v : a.messageValues)
+      values.push_back(lsd(v));
+    out << "  //   assert " << lsd(a.condition) << " "
+        << ir::messageExpression(a.message, values)
+        << (a.level ? " (warning)" : "") << "\n";
+  }
   if (!ev.modeDiscrete.empty()) {
     out << "  //   mode:";
     for (size_t i = 0; i < ev.modeDiscrete.size(); ++i)

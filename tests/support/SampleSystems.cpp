@@ -422,9 +422,9 @@ SampleSystem bouncingEvents() {
   ev.sampleDiscrete = {4};
   ev.asserts = {
       {c.compare(CompareKind::Ge, h, c.constant(-0.001)), "below ground", 0,
-       {}},
+       {}, {}},
       {c.compare(CompareKind::Lt, c.call(FuncKind::Abs, v), c.constant(100)),
-       "too fast", 1, {}}};
+       "too fast", 1, {}, {}}};
   ev.modeDiscrete = {3};
   ev.modeValues = {0};
   b.singleSet({c.sub(b.der(h), v),

@@ -25,7 +25,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 10
+#define LDAE_ABI_VERSION 11
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -285,6 +285,15 @@ typedef struct ldae_model {
   const int *assert_level;             /* n_asserts */
   const char *const *assert_origin;    /* n_asserts: "file:line:col" */
   ldae_outputs_fn asserts;             /* NULL when n_asserts == 0 */
+  /* ABI 11: values known only at run time in the messages (String(y) of
+     an unknown). The asserts function writes after the n_asserts
+     conditions the message values, assert i's at out[n_asserts +
+     assert_value_begin[i] ... n_asserts + assert_value_begin[i + 1]).
+     Value k shows in assert_message[i] as "\x1f<k>:<format>\x1f", format
+     "g<significantDigits>,<minimumLength>,<leftJustified>" (an integral
+     value printed as an integer, else %.<digits>g, padded to the length)
+     or "%<printf conversion>" (String(x, format = ...)). NULL: none. */
+  const int *assert_value_begin;       /* n_asserts + 1 */
 
   /* Variable structure: the discrete values whose values choose the
      branches of if-equations whose branches differ in incidence (an ideal
