@@ -44,33 +44,57 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
            {fn.name, std::to_string(kMaxInlineDepth)});
     return std::nullopt;
   }
-  // `extends Modelica.Icons.Function`: a base that declares nothing (an
-  // icon) adds nothing; one with variables or a body is not supported.
-  std::function<bool(const ast::ClassDef &, unsigned)> declaresNothing =
+  // `extends` (MSL's densities extend partialDensity, which declares the
+  // input u and the output y): the variables of the bases come first, in
+  // order, then the function's own; the algorithm is the one of the chain
+  // that has one (MLS 12.2: at most one, possibly inherited). Each
+  // variable's type and default are read in the class that declares it.
+  std::vector<const ast::Component *> comps;
+  std::vector<const ast::ClassDef *> owner;
+  const ast::ClassDef *body = nullptr;
+  bool inherited = false;
+  std::function<bool(const ast::ClassDef &, unsigned)> collect =
       [&](const ast::ClassDef &c, unsigned depth) {
-        if (!c.components.empty() || !c.algorithm.empty() || depth > 32)
-          return false;
         for (const ast::Extends &ext : c.extends) {
           const ast::ClassDef *base = classes_.resolveClass(
               ext.base, c.parent, c.file, /*report=*/false);
-          if (!base || !declaresNothing(*base, depth + 1))
+          if (!base || depth > 32 || (ext.mod && !ext.mod->args.empty())) {
+            report(DiagId::ErrUnsupported, ext.loc,
+                   {base ? "'extends' with modifiers in functions"
+                         : "'extends' of this class in functions"});
             return false;
+          }
+          if (!collect(*base, depth + 1))
+            return false;
+        }
+        for (const ast::Component &comp : c.components) {
+          comps.push_back(&comp);
+          owner.push_back(&c);
+          inherited = inherited || &c != &fn;
+        }
+        if (!c.algorithm.empty() || c.isExternal) {
+          if (body) {
+            report(DiagId::ErrUnsupported, c.loc,
+                   {"a function with two algorithm sections"});
+            return false;
+          }
+          body = &c;
         }
         return true;
       };
-  for (const ast::Extends &ext : fn.extends) {
-    const ast::ClassDef *base =
-        classes_.resolveClass(ext.base, fn.parent, fn.file, /*report=*/false);
-    if (!base || !declaresNothing(*base, 0)) {
-      report(DiagId::ErrUnsupported, ext.loc,
-             {"'extends' in functions of a base with variables or a body"});
-      return std::nullopt;
-    }
+  if (!collect(fn, 0))
+    return std::nullopt;
+  if (!body)
+    body = &fn;
+  if (body->isExternal && (inherited || body != &fn)) {
+    report(DiagId::ErrUnsupported, where,
+           {"an external function '" + fn.name + "' that inherits"});
+    return std::nullopt;
   }
   std::vector<const ast::Component *> inputs;
-  for (const ast::Component &c : fn.components)
-    if (isInput(c))
-      inputs.push_back(&c);
+  for (const ast::Component *c : comps)
+    if (isInput(*c))
+      inputs.push_back(c);
 
   // Match the arguments to inputs: positional first, then by name.
   std::vector<const ast::Expr *> bound(inputs.size(), nullptr);
@@ -114,10 +138,10 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   // A variable's type: Real, Integer, Boolean, or a type that names one
   // (MSL's `input SI.Temperature T`) or an enumeration, through short
   // classes.
-  auto numericType = [&](const ast::Name &type) {
+  auto numericType = [&](const ast::Name &type, const ast::ClassDef &in) {
     ast::Name cur = type;
-    const ast::ClassDef *scope = &fn;
-    uint32_t file = fn.file;
+    const ast::ClassDef *scope = &in;
+    uint32_t file = in.file;
     for (unsigned guard = 0; guard < 32; ++guard) {
       if (!cur.global && cur.parts.size() == 1 &&
           (cur.parts[0] == "Real" || cur.parts[0] == "Integer" ||
@@ -150,8 +174,9 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   auto isStringType = [](const ast::Name &type) {
     return !type.global && type.parts.size() == 1 && type.parts[0] == "String";
   };
-  for (const ast::Component &c : fn.components) {
-    if (!numericType(c.typeName) &&
+  for (size_t i = 0; i < comps.size(); ++i) {
+    const ast::Component &c = *comps[i];
+    if (!numericType(c.typeName, *owner[i]) &&
         !(fn.isExternal && externalOnlyType(c.typeName))) {
       report(DiagId::ErrUnsupported, c.typeName.loc,
              {"function variables of type '" + c.typeName.str() + "'"});
@@ -159,8 +184,9 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     }
   }
   size_t inputIndex = 0;
-  for (const ast::Component &c : fn.components) {
-    Scope fscope{nullptr, &fn};
+  for (size_t i = 0; i < comps.size(); ++i) {
+    const ast::Component &c = *comps[i];
+    Scope fscope{nullptr, owner[i]};
     std::optional<Value> value;
     if (isInput(c)) {
       const ast::Expr *arg = bound[inputIndex++];
@@ -240,11 +266,12 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   }
   if (fn.isExternal)
     return externalCall(fn, fenv);
-  if (execStatements(fn.algorithm, fn, Scope{nullptr, &fn}, fenv) !=
+  if (execStatements(body->algorithm, fn, Scope{nullptr, body}, fenv) !=
       ExecResult::Ok)
     return std::nullopt;
   std::vector<Value> outputs;
-  for (const ast::Component &c : fn.components) {
+  for (const ast::Component *comp : comps) {
+    const ast::Component &c = *comp;
     if (!isOutput(c))
       continue;
     Value *v = fenv.find(c.name);
