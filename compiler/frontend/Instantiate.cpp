@@ -302,6 +302,28 @@ void Flattener::elaborateComponent(InstNode &node) {
       node.dims.push_back(binding->shape[k]);
       continue;
     }
+    // `A[:, size(A, 1)] = [1, 0; 0, 1]` (MSL's StateSpace): a size of
+    // the component itself is its binding's.
+    if (dim->kind == ast::ExprKind::Call && dim->text == "size" &&
+        dim->args.size() == 2 && dim->args[0].name.empty() &&
+        dim->args[1].name.empty() &&
+        dim->args[0].value->kind == ast::ExprKind::Ref &&
+        dim->args[0].value->parts.size() == 1 &&
+        dim->args[0].value->parts[0].name == d.name &&
+        dim->args[0].value->parts[0].subscripts.empty() &&
+        dim->args[1].value->kind == ast::ExprKind::Number) {
+      if (!binding && node.mod && node.mod->value)
+        binding = lowerModValue(*node.mod);
+      double k = dim->args[1].value->number;
+      if (!binding || k < 1 || k > double(binding->shape.size()) ||
+          k != std::floor(k) || binding->shape.size() != d.dims.size()) {
+        report(DiagId::ErrArraySizeMissing, dim->loc, {d.name});
+        node.state = InstNode::State::Failed;
+        return;
+      }
+      node.dims.push_back(binding->shape[size_t(k) - 1]);
+      continue;
+    }
     // `Real x[E]` for an enumeration E: one element per literal.
     const ast::ClassDef *byEnum = enumerationNamed(*dim, declScope);
     std::optional<int64_t> n =
