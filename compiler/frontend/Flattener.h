@@ -354,6 +354,8 @@ private:
   bool resolveType(InstNode &node);
   void createLeafSlots(InstNode &node);
   bool isInitialParameter(const InstNode &node);
+  /// The variables of parameters with fixed = false (initialParameter).
+  std::set<ir::VarId> initialParameterVars_;
   void createParameter(InstNode &node, const std::string &name,
                        const ModPtr &mod);
   void createVariable(InstNode &node, const std::string &name,

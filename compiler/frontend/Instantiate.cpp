@@ -716,6 +716,7 @@ void Flattener::createLeafSlots(InstNode &node) {
     node.binding = node.mod;
   if (node.initialParameter)
     for (const Slot &slot : node.slots) {
+      initialParameterVars_.insert(slot.id);
       // Constant in time: der(p) = 0, at the declaration.
       ir::Equation e;
       e.residual = ctx().var(slot.id, 1);
@@ -732,8 +733,29 @@ bool Flattener::isInitialParameter(const InstNode &node) {
       node.builtin != BuiltinType::Real || !node.mod)
     return false;
   ModPtr fixed = node.mod->sub("fixed");
-  if (!fixed || !fixed->value)
-    return false;
+  if (!fixed || !fixed->value) {
+    // A binding that reads parameters the initialization finds (MSL's
+    // ContinuousMean: `actualStartTime = max(t_0, startTime)` with t_0
+    // fixed = false) is found there too, as its initial equation.
+    // Scalars only: an array's binding is not lowered twice.
+    if (!node.mod->value || !node.dims.empty() ||
+        node.decl->prefix.variability == ast::Variability::Constant)
+      return false;
+    std::optional<Value> v = lowerModValue(*node.mod);
+    if (!v || v->isString || v->elems.empty())
+      return false;
+    bool reads = false;
+    for (ir::ExprRef e : v->elems) {
+      if (ir::dependsOnTime(e))
+        return false;
+      for (ir::VarKey k : ir::freeVariables(e)) {
+        if (!initialParameterVars_.count(k.var))
+          return false;
+        reads = true;
+      }
+    }
+    return reads;
+  }
   std::optional<Value> v = lowerModValue(*fixed);
   if (!v || v->isString || v->elems.size() != 1)
     return false;
