@@ -239,8 +239,7 @@ void Flattener::flattenIf(const ast::Equation &eq, const Scope &scope,
   if (connectSweep_)
     return;
   if (sink.when) {
-    report(DiagId::ErrUnsupported, eq.loc,
-           {"if-equations on variables inside when-equations"});
+    flattenIfInWhen(eq, conds, branches, scope, env, sink);
     return;
   }
   // Flatten every branch separately, then merge residual by residual.
@@ -277,6 +276,64 @@ void Flattener::flattenIf(const ast::Equation &eq, const Scope &scope,
     e.text = eq.text;
     e.loc = eq.loc;
     sink.out->push_back(std::move(e));
+  }
+}
+
+void Flattener::flattenIfInWhen(
+    const ast::Equation &eq, const std::vector<ir::ExprRef> &conds,
+    const std::vector<const std::vector<ast::Equation> *> &branches,
+    const Scope &scope, Env *env, EqSink &sink) {
+  // Each branch assigns the same variables (MLS 8.3.4; MSL's SignalExtrema
+  // in another order per branch): `v = if c1 then e1 elseif ... else en`.
+  std::vector<ir::WhenClause> parts(branches.size());
+  for (size_t k = 0; k < branches.size(); ++k) {
+    EqSink sub = sink;
+    sub.when = &parts[k];
+    for (const ast::Equation &body : *branches[k])
+      flattenEquation(body, scope, env, sub);
+    if (!parts[k].reinits.empty() || !parts[k].terminates.empty() ||
+        !parts[k].asserts.empty()) {
+      report(DiagId::ErrUnsupported, eq.loc,
+             {"reinit, terminate or assert in an if-equation on variables "
+              "inside a when-equation"});
+      return;
+    }
+  }
+  auto valueIn = [&](const ir::WhenClause &part, ir::ExprRef target)
+      -> ir::ExprRef {
+    for (size_t i = 0; i < part.targets.size(); ++i)
+      if (part.targets[i] == target) // residual: target - value
+        return ctx().sub(target, part.equations[i].residual);
+    return nullptr;
+  };
+  const ir::WhenClause &first = parts[0];
+  for (size_t k = 1; k < parts.size(); ++k)
+    if (parts[k].targets.size() != first.targets.size()) {
+      report(DiagId::ErrIfBranchCount, SourceRange{eq.loc, 2},
+             {std::to_string(first.targets.size()),
+              std::to_string(parts[k].targets.size())});
+      return;
+    }
+  for (size_t i = 0; i < first.targets.size(); ++i) {
+    ir::ExprRef target = first.targets[i];
+    ir::ExprRef value = valueIn(parts.back(), target);
+    for (size_t k = parts.size() - 1; value && k-- > 0;) {
+      ir::ExprRef branch = valueIn(parts[k], target);
+      value = branch ? ctx().ifThenElse(conds[k], branch, value) : nullptr;
+    }
+    if (!value) {
+      report(DiagId::ErrUnsupported, eq.loc,
+             {"branches of an if-equation inside a when-equation that assign "
+              "different variables ('" +
+              model_->variables[target->var()].name + "')"});
+      return;
+    }
+    ir::Equation e = first.equations[i];
+    e.residual = ctx().sub(target, value);
+    e.text = eq.text;
+    e.loc = eq.loc;
+    sink.when->equations.push_back(std::move(e));
+    sink.when->targets.push_back(target);
   }
 }
 

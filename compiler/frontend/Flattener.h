@@ -442,6 +442,10 @@ private:
                        EqSink &sink);
   void flattenIf(const ast::Equation &eq, const Scope &scope, Env *env,
                  EqSink &sink);
+  void flattenIfInWhen(const ast::Equation &eq,
+                       const std::vector<ir::ExprRef> &conds,
+                       const std::vector<const std::vector<ast::Equation> *> &branches,
+                       const Scope &scope, Env *env, EqSink &sink);
   void flattenWhen(const ast::Equation &eq, const Scope &scope, Env *env,
                    EqSink &sink);
   void flattenCallEquation(const ast::Equation &eq, const Scope &scope,
