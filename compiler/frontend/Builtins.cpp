@@ -71,6 +71,14 @@ std::string builtinNameOf(const ast::Expr &call) {
 
 } // namespace
 
+/// min and max of no elements (MLS 10.3.4.1: the greatest, and the
+/// least, value of the type; Real's largest finite values here, as
+/// MSL's MinMax with nu = 0 gives them).
+ir::ExprRef Flattener::emptyMinMax(const std::string &name) {
+  double greatest = std::numeric_limits<double>::max();
+  return ctx().constant(name == "min" ? greatest : -greatest);
+}
+
 std::optional<std::vector<Value>>
 Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
                             Env *env) {
@@ -222,8 +230,7 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
         return Value::scalar(c.zero());
       if (name == "product")
         return Value::scalar(c.one());
-      report(DiagId::ErrEmptyReduction, where, {name});
-      return std::nullopt;
+      return Value::scalar(emptyMinMax(name));
     }
     return acc;
   }
@@ -466,10 +473,8 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     if ((name == "min" || name == "max") && call.args.size() == 1) {
       if (!lowerArgs())
         return std::nullopt;
-      if (args[0].elems.empty()) {
-        report(DiagId::ErrEmptyReduction, where, {name});
-        return std::nullopt;
-      }
+      if (args[0].elems.empty())
+        return Value::scalar(emptyMinMax(name));
       ir::ExprRef acc = args[0].elems[0];
       for (size_t i = 1; i < args[0].elems.size(); ++i)
         acc = c.call(f->kind, acc, args[0].elems[i]);

@@ -298,6 +298,7 @@ public:
   std::optional<Value> lowerCall(const ast::Expr &call, const Scope &scope,
                                  Env *env);
   /// Every output of a call (user functions; one value for built-ins).
+  ir::ExprRef emptyMinMax(const std::string &name);
   std::optional<std::vector<Value>> lowerCallOutputs(const ast::Expr &call,
                                                      const Scope &scope,
                                                      Env *env);
