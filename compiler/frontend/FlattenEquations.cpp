@@ -466,14 +466,18 @@ void Flattener::flattenAssert(const ast::Equation &eq, const Scope &scope,
   a.message = *text;
   a.loc = eq.loc;
   if (level) {
-    std::string l = level->kind == ast::ExprKind::Ref ? level->refName() : "";
-    if (l == "AssertionLevel.warning")
-      a.level = 1;
-    else if (l != "AssertionLevel.error") {
+    // AssertionLevel.warning (1) or .error (2), or a parameter of the type
+    // (MSL's AssertCondition).
+    std::optional<double> l =
+        evalConstant(*level, scope, env, "level of 'assert'");
+    if (!l)
+      return;
+    if (*l != 1 && *l != 2) {
       report(DiagId::ErrAssertLevel, SourceRange{level->loc, level->length},
              {});
       return;
     }
+    a.level = *l == 1 ? 1 : 0;
   }
   std::optional<Value> c = lower(*cond, scope, env);
   if (!c)

@@ -73,9 +73,9 @@ BuiltinType builtinNamed(const ast::Name &n) {
   const std::string &s = n.parts[0];
   if (s == "Real")
     return BuiltinType::Real;
-  // StateSelect, the built-in enumeration of the stateSelect attribute:
-  // its values are the attribute's (never 0 ... always 4, Lookup.cpp).
-  if (s == "Integer" || s == "StateSelect")
+  // StateSelect and AssertionLevel, the built-in enumerations: their
+  // values are integers (Lookup.cpp).
+  if (s == "Integer" || s == "StateSelect" || s == "AssertionLevel")
     return BuiltinType::Integer;
   if (s == "Boolean")
     return BuiltinType::Boolean;

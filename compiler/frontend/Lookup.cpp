@@ -266,15 +266,26 @@ Flattener::packageConstant(const ast::Component &comp,
   return selectAtRunTime(std::move(out), runTime);
 }
 
-/// `StateSelect.prefer` and friends: enumeration values of the one built-in
-/// enumeration lsd knows, as their index.
-static std::optional<double> stateSelectValue(const ast::Expr &ref) {
-  if (ref.parts.size() != 2 || ref.parts[0].name != "StateSelect")
+/// `StateSelect.prefer` and `AssertionLevel.warning`: values of the
+/// built-in enumerations (MLS 4.9.5, 8.3.7): StateSelect's as the
+/// attribute's index (never 0 ... always 4), AssertionLevel's as their
+/// ordinal (warning 1, error 2).
+static std::optional<double> builtinEnumerationValue(const ast::Expr &ref) {
+  if (ref.parts.size() != 2)
     return std::nullopt;
-  static const char *names[] = {"never", "avoid", "default", "prefer", "always"};
-  for (int i = 0; i < 5; ++i)
-    if (ref.parts[1].name == names[i])
-      return i;
+  if (ref.parts[0].name == "StateSelect") {
+    static const char *names[] = {"never", "avoid", "default", "prefer",
+                                  "always"};
+    for (int i = 0; i < 5; ++i)
+      if (ref.parts[1].name == names[i])
+        return i;
+  }
+  if (ref.parts[0].name == "AssertionLevel") {
+    if (ref.parts[1].name == "warning")
+      return 1;
+    if (ref.parts[1].name == "error")
+      return 2;
+  }
   return std::nullopt;
 }
 
@@ -375,7 +386,7 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
     if (first == "pi")
       return Value::scalar(ctx().constant(M_PI));
   }
-  if (std::optional<double> ss = stateSelectValue(ref))
+  if (std::optional<double> ss = builtinEnumerationValue(ref))
     return Value::scalar(ctx().constant(*ss));
   // Classes and package constants.
   uint32_t file = scope.cls ? scope.cls->file : ref.loc.file;
