@@ -262,6 +262,10 @@ struct ClassDef {
 struct StoredDefinition {
   uint32_t file = 0;
   std::vector<std::unique_ptr<ClassDef>> classes;
+  /// `within A.B;` (MLS 13.2.2.2): the package the file's classes belong
+  /// to (no parts: `within;`, the top level).
+  bool hasWithin = false;
+  Name within;
 };
 
 } // namespace ldae::frontend::ast

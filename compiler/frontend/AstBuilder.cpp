@@ -30,6 +30,13 @@ public:
   build(LsdParser::StoredDefinitionContext *ctx) {
     auto def = std::make_unique<ast::StoredDefinition>();
     def->file = file_;
+    if (auto *w = ctx->withinClause()) {
+      def->hasWithin = true;
+      if (w->name())
+        def->within = name(w->name());
+      def->within.loc = loc(w);
+      def->within.length = length(w);
+    }
     for (auto *c : ctx->classDefinition())
       def->classes.push_back(classDefinition(c, nullptr));
     checkUnique(def->classes, nullptr, "this file");

@@ -44,6 +44,18 @@ const ast::ClassDef *LibraryLoader::load(const std::string &file,
   if (!def)
     return nullptr;
   ++filesParsed_;
+  // The file's `within` names the package it was found in.
+  std::string expected = parent ? parent->qualifiedName() : "";
+  std::string said = def->hasWithin ? def->within.str() : expected;
+  if (said != expected) {
+    auto describe = [](const std::string &pkg) {
+      return pkg.empty() ? std::string("the top level") : "'" + pkg + "'";
+    };
+    diags_.report(DiagId::WarnWithinMismatch,
+                  SourceRange{def->within.loc, def->within.length},
+                  {fs::path(file).filename().string(), describe(said),
+                   describe(expected)});
+  }
   ast::ClassDef *found = nullptr;
   for (auto &c : def->classes)
     if (c->name == name)
