@@ -80,6 +80,7 @@ std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
   elaborateInstance(*root_);
   root_->state = InstNode::State::Done;
   readExperiment(cls, *root_);
+  checkUsedVersions(cls);
   connectSweep_ = true;
   collectConnects(*root_);
   for (auto &[name, added] : addedInners_)

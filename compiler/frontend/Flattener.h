@@ -365,6 +365,7 @@ private:
   std::string readUnit(const ModPtr &mod, const std::string &name);
   void checkModifiers(InstNode &node);
   ModPtr makeMod(const ast::Modification *m, const Scope &scope);
+  void checkUsedVersions(const ast::ClassDef &cls);
   void readExperiment(const ast::ClassDef &cls, InstNode &root);
   /// Adds `count` instances of `node` to the total; false (reported once,
   /// at `node`) past kMaxInstances.

@@ -950,6 +950,49 @@ void Flattener::createVariable(InstNode &node, const std::string &name,
     flowVars_.push_back(id);
 }
 
+namespace {
+/// The string value of annotation field `key` among `args`, if any.
+const ast::Expr *annotationString(const std::vector<ast::Modifier> &args,
+                                  const std::string &key) {
+  for (const ast::Modifier &a : args)
+    if (a.path.size() == 1 && a.path[0] == key && a.mod && a.mod->value &&
+        a.mod->value->kind == ast::ExprKind::String)
+      return a.mod->value.get();
+  return nullptr;
+}
+} // namespace
+
+void Flattener::checkUsedVersions(const ast::ClassDef &cls) {
+  // `annotation(uses(Modelica(version = "4.1.0")))` on the model or a
+  // package around it (MLS 18.8.2), against the `version` annotation of
+  // the library found on the path: a different one is a warning.
+  for (const ast::ClassDef *c = &cls; c; c = c->parent)
+    for (const auto &ann : c->annotations)
+      for (const ast::Modifier &uses : ann->args) {
+        if (uses.path.size() != 1 || uses.path[0] != "uses" || !uses.mod)
+          continue;
+        for (const ast::Modifier &lib : uses.mod->args) {
+          const ast::Expr *wanted =
+              lib.mod && lib.path.size() == 1
+                  ? annotationString(lib.mod->args, "version")
+                  : nullptr;
+          if (!wanted)
+            continue;
+          LexicalHit hit = classes_.lookup(lib.path[0], nullptr, c->file);
+          if (!hit.cls)
+            continue; // reported where the library is used
+          const ast::Expr *found = nullptr;
+          for (const auto &libAnn : hit.cls->annotations)
+            if (!found)
+              found = annotationString(libAnn->args, "version");
+          if (found && found->text != wanted->text)
+            report(DiagId::WarnUsesVersion,
+                   SourceRange{wanted->loc, wanted->length},
+                   {c->name, lib.path[0], wanted->text, found->text});
+        }
+      }
+}
+
 void Flattener::readExperiment(const ast::ClassDef &cls, InstNode &root) {
   struct Field {
     std::optional<double> *slot;
