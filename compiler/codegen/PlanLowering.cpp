@@ -220,7 +220,7 @@ private:
   /// event of another clause, as a select evaluates both sides, moved
   /// BooleanTable's events past the end of its table.
   bool guardsBranches(ExprRef e) {
-    return e->kind() == ExprKind::If &&
+    return e->kind() == ExprKind::If && anyExternal_ &&
            (callsExternal(e->operand(1)) || callsExternal(e->operand(2)));
   }
 
@@ -426,6 +426,8 @@ private:
   unsigned nParams_;
   std::unordered_map<MemoKey, uint32_t, MemoHash> memo_;
   std::unordered_map<ExprRef, bool> callsExternal_;
+  /// No model without external functions pays for the analysis.
+  bool anyExternal_ = ir::anyExternal();
   /// The node that must be nonzero for the external calls being lowered
   /// to be made (kAlways: unconditionally).
   uint32_t guard_ = kAlways;

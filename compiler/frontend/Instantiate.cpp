@@ -737,8 +737,9 @@ bool Flattener::isInitialParameter(const InstNode &node) {
     // A binding that reads parameters the initialization finds (MSL's
     // ContinuousMean: `actualStartTime = max(t_0, startTime)` with t_0
     // fixed = false) is found there too, as its initial equation.
-    // Scalars only: an array's binding is not lowered twice.
+    // Scalars only, and not literals: nothing else is lowered twice.
     if (!node.mod->value || !node.dims.empty() ||
+        node.mod->value->kind == ast::ExprKind::Number ||
         node.decl->prefix.variability == ast::Variability::Constant)
       return false;
     std::optional<Value> v = lowerModValue(*node.mod);

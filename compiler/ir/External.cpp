@@ -31,6 +31,12 @@ uint32_t registerExternal(const ExternalFunction &f) {
   return static_cast<uint32_t>(t.entries.size() - 1);
 }
 
+bool anyExternal() {
+  Table &t = table();
+  std::lock_guard lock(t.mutex);
+  return !t.entries.empty();
+}
+
 const ExternalFunction &externalFunction(uint32_t id) {
   Table &t = table();
   std::lock_guard lock(t.mutex);

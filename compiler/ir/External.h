@@ -27,6 +27,8 @@ struct ExternalFunction {
 uint32_t registerExternal(const ExternalFunction &f);
 /// The entry with id `id`; stable for the life of the process.
 const ExternalFunction &externalFunction(uint32_t id);
+/// Whether any entry is registered (no External node exists without one).
+bool anyExternal();
 /// Calls entry `id` on `in` and returns output `output`.
 double callExternal(uint32_t id, const double *in, unsigned output);
 
