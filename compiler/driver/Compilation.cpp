@@ -4,6 +4,8 @@
 #include "Validate.h"
 
 #include "frontend/Frontend.h"
+#include "ir/External.h"
+#include "ir/Query.h"
 
 #include <chrono>
 #include <cstdlib>
@@ -86,6 +88,38 @@ bool Compilation::parse() {
   return true;
 }
 
+namespace {
+/// The first equation, assert or when-clause of `flat` that calls an
+/// external function (their IR nodes carry no location of their own).
+std::optional<SourceLoc> firstExternalCall(const ir::Model &flat) {
+  if (!ir::anyExternal())
+    return std::nullopt;
+  auto calls = [](ir::ExprRef e) {
+    if (!e)
+      return false;
+    for (ir::ExprRef n : ir::topologicalOrder(std::span(&e, 1)))
+      if (n->kind() == ir::ExprKind::External)
+        return true;
+    return false;
+  };
+  for (const auto *list : {&flat.equations, &flat.initialEquations})
+    for (const ir::Equation &e : *list)
+      if (calls(e.residual))
+        return e.loc;
+  for (const ir::WhenClause &w : flat.whenClauses) {
+    if (calls(w.condition))
+      return w.loc;
+    for (const ir::Equation &e : w.equations)
+      if (calls(e.residual))
+        return e.loc;
+  }
+  for (const ir::Parameter &p : flat.parameters)
+    if (calls(p.binding))
+      return p.loc;
+  return std::nullopt;
+}
+} // namespace
+
 bool Compilation::analyze() {
   // A model whose if-equations may change its structure keeps its flat
   // form: a run compiles each further mode from it when first reached.
@@ -94,6 +128,7 @@ bool Compilation::analyze() {
     if (!request_.passes.reportOnly)
       flat_.emplace(*model_);
   }
+  externalCall_ = firstExternalCall(*model_);
   auto t0 = std::chrono::steady_clock::now();
   bool ok = passes::runPipeline(*model_, request_.passes, diags_, analysis_);
   if (request_.passes.timePasses && request_.passes.log)

@@ -189,6 +189,12 @@ static int run(int argc, char **argv) {
     c.diagnostics().flush(std::cerr);
     return 1;
   }
+  // The C file would have to build and link the user's C libraries itself.
+  if (opts.emit == driver::EmitKind::C && c.externalCall()) {
+    c.diagnostics().report(DiagId::ErrExternalC, *c.externalCall());
+    c.diagnostics().flush(std::cerr);
+    return 1;
+  }
   if (opts.emit == driver::EmitKind::Llvm ||
       opts.emit == driver::EmitKind::C) {
     codegen::CodegenOptions cg = c.request().codegen;

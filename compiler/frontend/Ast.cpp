@@ -32,6 +32,16 @@ Expr::~Expr() {
   }
 }
 
+Name Expr::calleeName() const {
+  Name fname;
+  fname.global = global;
+  for (const auto &p : parts)
+    fname.parts.push_back(p.name);
+  fname.loc = loc;
+  fname.length = static_cast<uint32_t>(text.size());
+  return fname;
+}
+
 std::string Expr::refName() const {
   std::string s = global ? "." : "";
   for (size_t i = 0; i < parts.size(); ++i) {

@@ -15,6 +15,7 @@ namespace ldae::frontend::ast {
 struct Expr;
 using ExprPtr = std::unique_ptr<Expr>;
 struct Modification;
+struct Name;
 using ModificationPtr = std::unique_ptr<Modification>;
 
 enum class ExprKind {
@@ -82,6 +83,9 @@ struct Expr {
 
   /// The reference as written: `a[...].b` (subscripts elided).
   std::string refName() const;
+  /// Call: the function's name as a Name (where written, the callee's
+  /// length underlined).
+  Name calleeName() const;
 
   Expr() = default;
   Expr(Expr &&) = default;

@@ -84,12 +84,7 @@ Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
                             Env *env) {
   std::string builtin = builtinNameOf(call);
   if (builtin.empty() || !isBuiltinName(builtin)) {
-    ast::Name fname;
-    fname.global = call.global;
-    for (const auto &p : call.parts)
-      fname.parts.push_back(p.name);
-    fname.loc = call.loc;
-    fname.length = static_cast<uint32_t>(call.text.size());
+    ast::Name fname = call.calleeName();
     uint32_t file = scope.cls ? scope.cls->file : call.loc.file;
     LexicalHit hit = classes_.lookup(fname.parts[0], call.global ? nullptr : scope.cls, file);
     if (!hit.cls) {

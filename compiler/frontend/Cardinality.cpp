@@ -35,6 +35,7 @@ void Flattener::collectConnects(InstNode &node) {
     if (m->innerHalf)
       collectConnects(*m->innerHalf);
   }
+  InstanceContext context(*this, &node);
   std::vector<ir::Equation> none;
   for (const auto &[eq, cls] : node.equations) {
     EqSink sink;

@@ -63,6 +63,10 @@ void Flattener::addConnect(const ast::Equation &eq, const Scope &scope,
                            Env *env) {
   // A connect equation that names a removed conditional component is
   // removed with it (MLS 4.4.5).
+  if (expandSweep_) {
+    augmentConnect(eq, scope, env);
+    return;
+  }
   if (namesRemoved(*eq.lhs, scope) || namesRemoved(*eq.rhs, scope))
     return;
   std::optional<Selection> a = selectComponents(*eq.lhs, scope, env);
@@ -81,7 +85,7 @@ void Flattener::addConnect(const ast::Equation &eq, const Scope &scope,
   for (size_t i = 0; i < a->targets.size(); ++i) {
     for (const auto &[t, ref] : {std::pair{a->targets[i], eq.lhs.get()},
                                  std::pair{b->targets[i], eq.rhs.get()}})
-      if (!t.node->isConnector) {
+      if (!t.node->isConnector && !t.node->inExpandable) {
         report(DiagId::ErrNotAConnector, SourceRange{ref->loc, ref->length},
                {targetName(t), t.node->typeName});
         return;

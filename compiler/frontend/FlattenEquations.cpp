@@ -33,6 +33,7 @@ void Flattener::flattenInstance(InstNode &node) {
   // An `outer` component's variables and equations are its inner's.
   if (node.state != InstNode::State::Done || node.inner || overBudget())
     return;
+  InstanceContext context(*this, &node);
   if (node.isLeaf()) {
     if (node.binding)
       flattenBinding(node);

@@ -81,6 +81,14 @@ std::unique_ptr<ir::Model> Flattener::flatten(const ast::ClassDef &cls) {
   root_->state = InstNode::State::Done;
   readExperiment(cls, *root_);
   checkUsedVersions(cls);
+  if (!expandables_.empty()) {
+    connectSweep_ = expandSweep_ = true;
+    collectConnects(*root_);
+    for (auto &[name, added] : addedInners_)
+      collectConnects(*added.node);
+    connectSweep_ = expandSweep_ = false;
+    completeExpandableConnectors();
+  }
   connectSweep_ = true;
   collectConnects(*root_);
   for (auto &[name, added] : addedInners_)

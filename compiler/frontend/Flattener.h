@@ -78,6 +78,9 @@ struct Mod {
   ModPtr sub(const std::string &name) const;
 };
 
+/// `outer` over `inner`: outer's value wins; sub-modifiers merge by name.
+ModPtr mergeMods(const ModPtr &outer, const ModPtr &inner);
+
 enum class BuiltinType { None, Real, Integer, Boolean, String };
 
 /// One scalar of a Real/Integer/Boolean component: a variable or parameter.
@@ -95,7 +98,11 @@ struct InstNode {
   const ast::ClassDef *declClass = nullptr; // class the declaration is in
   ModPtr mod;
 
-  enum class State { Declared, Elaborating, Done, Failed };
+  /// Prepared: a class instance whose members exist, not yet elaborated
+  /// (a reference through it, `tr.VectorGroup`, elaborates only the
+  /// member it names, so bindings between two instances in both
+  /// directions are no cycle).
+  enum class State { Declared, Elaborating, Prepared, Done, Failed };
   State state = State::Declared;
   bool membersReady = false; // class instance: members exist (may be unelaborated)
 
@@ -141,6 +148,9 @@ struct InstNode {
   /// An `outer` component: the `inner` one of its name in the nearest
   /// enclosing instance that has one (MLS 5.4); it has no variables itself.
   InstNode *inner = nullptr;
+  /// A member of an expandable connector (ExpandableConnectors.cpp):
+  /// connectable whatever its type, present only when connected.
+  bool inExpandable = false;
   /// An `inner outer` component linked to an inner above: it is that
   /// outer to its own instance's equations, and this separate instance of
   /// its declaration, with its modifiers, is the inner of the components
@@ -247,6 +257,9 @@ public:
 
   // ----- Instantiate.cpp
   bool ensureElaborated(InstNode &node, SourceLoc usedAt);
+  /// Only the members of a class instance (of every element of an
+  /// array): enough to step through it to one of them.
+  bool ensureMembers(InstNode &node, SourceLoc usedAt);
   /// Moves the conditional members whose condition is false to
   /// InstNode::removed.
   void removeDisabledMembers(InstNode &node);
@@ -351,7 +364,13 @@ private:
 
   // Instantiate.cpp
   void elaborateInstance(InstNode &node);
-  void elaborateComponent(InstNode &node);
+  /// Collects the members of a class instance with their modifiers
+  /// (state stays as it is); elaborateMembers elaborates each.
+  void prepareInstance(InstNode &node);
+  void elaborateMembers(InstNode &node);
+  void elaborateComponent(InstNode &node, bool membersOnly);
+  /// A Prepared instance (or array of them) elaborated to Done.
+  void finishPrepared(InstNode &node);
   bool resolveType(InstNode &node);
   void createLeafSlots(InstNode &node);
   bool isInitialParameter(const InstNode &node);
@@ -467,6 +486,39 @@ private:
     std::string text, component;
   };
   void addConnect(const ast::Equation &eq, const Scope &scope, Env *env);
+
+  // RecordBindings.cpp
+  /// A record component's value as bindings of its fields.
+  void bindRecordValue(InstNode &node);
+  ModPtr fieldBinding(const Mod &whole, const std::string &field,
+                      const ast::Expr *value, const Scope &scope);
+  /// The references `field` in the record a binding names.
+  std::vector<std::unique_ptr<ast::Expr>> recordFieldRefs_;
+
+  // ExpandableConnectors.cpp
+  /// The expandable connector instance and the member name a reference
+  /// `bus.name` denotes when the connector has no such member yet.
+  std::pair<InstNode *, std::string>
+  missingExpandableMember(const ast::Expr &ref, const Scope &scope);
+  /// Adds member `name` to expandable connector `bus`, of the type of
+  /// `like` with sizes `dims`.
+  InstNode *addExpandableMember(InstNode &bus, const std::string &name,
+                                const InstNode &like,
+                                const std::vector<int64_t> &dims);
+  /// A connect equation of the sweep before the connect equations: adds
+  /// the members it names to expandable connectors.
+  void augmentConnect(const ast::Equation &eq, const Scope &scope, Env *env);
+  /// The unions of connected expandable connectors; the members never
+  /// present removed.
+  void completeExpandableConnectors();
+  /// Expandable connector instances, as prepared.
+  std::vector<InstNode *> expandables_;
+  /// Pairs of expandable connectors connected to each other.
+  std::vector<std::pair<InstNode *, InstNode *>> busPairs_;
+  /// Declarations of the members connects added.
+  std::vector<std::unique_ptr<ast::Component>> addedBusMembers_;
+  /// While the sweep for expandable connectors runs.
+  bool expandSweep_ = false;
   bool pairConnectors(const RefTarget &a, const RefTarget &b,
                       const ast::Equation &eq, const Scope &scope,
                       bool aOutside, bool bOutside);
@@ -560,6 +612,30 @@ private:
   bool readingBinding_ = false; // see bindingValue
   std::set<std::string> reported_;
   Diagnostic dropped_;
+
+public:
+  /// The instance being elaborated or flattened while it lives: a
+  /// diagnostic in another file than the model's (a library class) gets a
+  /// note per instance level down to the model, as Clang's "in
+  /// instantiation of".
+  class InstanceContext {
+  public:
+    InstanceContext(Flattener &f, const InstNode *node)
+        : f_(f), saved_(f.instanceContext_) {
+      f.instanceContext_ = node;
+    }
+    ~InstanceContext() { f_.instanceContext_ = saved_; }
+    InstanceContext(const InstanceContext &) = delete;
+    InstanceContext &operator=(const InstanceContext &) = delete;
+
+  private:
+    Flattener &f_;
+    const InstNode *saved_;
+  };
+
+private:
+  const InstNode *instanceContext_ = nullptr;
+  void addInstanceNotes(Diagnostic &d);
 
 public:
   ir::Differentiator &differentiator() { return *diff_; }

@@ -19,9 +19,6 @@ ModPtr Mod::sub(const std::string &name) const {
   return nullptr;
 }
 
-namespace {
-
-/// `outer` over `inner`: outer's value wins; sub-modifiers merge by name.
 ModPtr mergeMods(const ModPtr &outer, const ModPtr &inner) {
   if (!outer)
     return inner;
@@ -53,6 +50,8 @@ ModPtr mergeMods(const ModPtr &outer, const ModPtr &inner) {
   }
   return m;
 }
+
+namespace {
 
 /// The modifier seen by element `subs` (1-based) of an array: values not
 /// marked `each` are indexed.
@@ -170,6 +169,9 @@ bool Flattener::ensureElaborated(InstNode &node, SourceLoc usedAt) {
     return true;
   case InstNode::State::Failed:
     return false;
+  case InstNode::State::Prepared:
+    finishPrepared(node);
+    return node.state == InstNode::State::Done;
   case InstNode::State::Elaborating:
     if (node.membersReady)
       return true;
@@ -179,8 +181,35 @@ bool Flattener::ensureElaborated(InstNode &node, SourceLoc usedAt) {
   case InstNode::State::Declared:
     break;
   }
-  elaborateComponent(node);
+  elaborateComponent(node, false);
   return node.state == InstNode::State::Done;
+}
+
+bool Flattener::ensureMembers(InstNode &node, SourceLoc usedAt) {
+  if (node.state == InstNode::State::Prepared)
+    return true;
+  if (node.state == InstNode::State::Declared) {
+    elaborateComponent(node, true);
+    return node.state == InstNode::State::Prepared ||
+           node.state == InstNode::State::Done;
+  }
+  return ensureElaborated(node, usedAt);
+}
+
+void Flattener::finishPrepared(InstNode &node) {
+  InstanceContext context(*this, &node);
+  node.state = InstNode::State::Elaborating;
+  if (node.isArray()) {
+    for (auto &elem : node.elements)
+      if (elem->state == InstNode::State::Prepared) {
+        elem->state = InstNode::State::Elaborating;
+        elaborateMembers(*elem);
+        elem->state = InstNode::State::Done;
+      }
+  } else {
+    elaborateMembers(node);
+  }
+  node.state = InstNode::State::Done;
 }
 
 bool Flattener::resolveType(InstNode &node) {
@@ -275,7 +304,8 @@ bool Flattener::countInstances(int64_t count, const InstNode &node) {
   return false;
 }
 
-void Flattener::elaborateComponent(InstNode &node) {
+void Flattener::elaborateComponent(InstNode &node, bool membersOnly) {
+  InstanceContext context(*this, &node);
   node.state = InstNode::State::Elaborating;
   const ast::Component &d = *node.decl;
   node.flow = d.prefix.flow || (node.parent && node.parent->flow);
@@ -340,6 +370,8 @@ void Flattener::elaborateComponent(InstNode &node) {
     node.state = InstNode::State::Failed;
     return;
   }
+  if (node.inExpandable)
+    node.causality = ast::Causality::None;
   int64_t count = 1;
   for (int64_t n : node.dims) {
     if (n < 0) {
@@ -389,7 +421,9 @@ void Flattener::elaborateComponent(InstNode &node) {
     }
   }
 
-  if (node.mod && node.mod->value) {
+  // A record's value binds its fields (RecordBindings.cpp).
+  if (node.mod && node.mod->value &&
+      (node.cls->kind != ast::ClassKind::Record || node.isArray())) {
     report(DiagId::ErrUnsupported, node.mod->loc,
                   {"a value for a component of type '" + node.typeName + "'"});
     node.state = InstNode::State::Failed;
@@ -413,16 +447,20 @@ void Flattener::elaborateComponent(InstNode &node) {
       elem->variability = node.variability;
       elem->causality = node.causality;
       elem->state = InstNode::State::Elaborating;
-      elaborateInstance(*elem);
-      elem->state = InstNode::State::Done;
+      prepareInstance(*elem);
+      elem->state = InstNode::State::Prepared;
       node.elements.push_back(std::move(elem));
       if (overBudget())
         break;
     }
+    // Every element exists: a member of one may name another.
+    node.membersReady = true;
   } else {
-    elaborateInstance(node);
+    prepareInstance(node);
   }
-  node.state = InstNode::State::Done;
+  node.state = InstNode::State::Prepared;
+  if (!membersOnly)
+    finishPrepared(node);
 }
 
 namespace {
@@ -523,12 +561,24 @@ struct Collector {
 } // namespace
 
 void Flattener::elaborateInstance(InstNode &node) {
+  prepareInstance(node);
+  elaborateMembers(node);
+}
+
+void Flattener::prepareInstance(InstNode &node) {
   Collector c{*this, classes_, diags_, node, {}, {}, {}};
   c.collect(*node.cls, &Flattener::makeMod);
   node.membersReady = true;
+  if (node.cls->expandable) {
+    expandables_.push_back(&node);
+    for (auto &m : node.members)
+      m->inExpandable = true;
+  }
   // The outer modifier applies to the merged members.
   for (auto &m : node.members)
     m->mod = mergeMods(node.mod ? node.mod->sub(m->name) : nullptr, m->mod);
+  if (node.mod && node.mod->value && !node.isArray())
+    bindRecordValue(node);
   checkModifiers(node);
   // A member redeclared by a modifier (of an extends clause or of this
   // instance) takes its new declaration; the modifiers of its original one
@@ -559,6 +609,13 @@ void Flattener::elaborateInstance(InstNode &node) {
                         SourceRange{sub->nameLoc, sub->nameLength}, {name, node.cls->name, best});
       }
   }
+}
+
+void Flattener::elaborateMembers(InstNode &node) {
+  // An expandable connector's members are elaborated when a connect
+  // names them (ExpandableConnectors.cpp).
+  if (node.cls && node.cls->expandable)
+    return;
   for (auto &m : node.members) {
     ensureElaborated(*m, m->decl->loc);
     if (m->innerHalf)

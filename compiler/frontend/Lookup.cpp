@@ -146,7 +146,8 @@ Flattener::resolveInstancePath(const ast::Expr &ref, size_t firstPart,
     bool first = true;
     for (const RefTarget &t : sel.targets) {
       InstNode *n = t.node;
-      if (!ensureElaborated(*n, ref.loc))
+      bool last = i + 1 == ref.parts.size();
+      if (!(last ? ensureElaborated(*n, ref.loc) : ensureMembers(*n, ref.loc)))
         return std::nullopt;
       std::vector<int64_t> shape, offsets;
       if (!n->isArray() && !part.subscripts.empty()) {
@@ -477,6 +478,11 @@ const ast::ClassDef *Flattener::enumerationNamed(const ast::Expr &e,
 }
 
 void Flattener::reportRemoved(const InstNode &removed, SourceRange range) {
+  if (removed.inExpandable) {
+    report(DiagId::ErrExpandableAbsent, range,
+           {removed.name, removed.parent ? removed.parent->path : ""});
+    return;
+  }
   report(DiagId::ErrConditionalRemoved, range,
          {removed.name, removed.decl->conditionText});
 }

@@ -57,7 +57,29 @@ Diagnostic &Flattener::report(DiagId id, SourceRange range,
     dropped_ = Diagnostic{};
     return dropped_;
   }
-  return diags_.report(id, range, std::move(args));
+  Diagnostic &d = diags_.report(id, range, std::move(args));
+  if (d.severity != Severity::Note)
+    addInstanceNotes(d);
+  return d;
+}
+
+void Flattener::addInstanceNotes(Diagnostic &d) {
+  // Only where the text is not the model's own: there the instance names
+  // in the message say enough.
+  if (!instanceContext_ || !root_ || !root_->cls ||
+      !d.range.begin.valid() || d.range.begin.file == root_->cls->file)
+    return;
+  constexpr int kMaxLevels = 12;
+  int levels = 0;
+  for (const InstNode *n = instanceContext_; n && n->decl; n = n->parent) {
+    if (n->isLeaf() && !n->isArray() && n->parent && n->parent->decl)
+      continue; // its class instance says where
+    if (++levels > kMaxLevels)
+      break;
+    DiagnosticEngine::addNote(d, SourceRange{n->decl->loc, n->decl->length},
+                              DiagId::NoteInInstance,
+                              {n->path, n->typeName});
+  }
 }
 
 std::optional<double> Flattener::constantValue(ir::ExprRef e,

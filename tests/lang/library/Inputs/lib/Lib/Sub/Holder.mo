@@ -1,0 +1,4 @@
+within Lib.Sub;
+model Holder "Holds a Faulty one level down"
+  Faulty f;
+end Holder;
