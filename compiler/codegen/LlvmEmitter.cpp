@@ -676,16 +676,24 @@ Error toError(llvm::Error e) { return Error{llvm::toString(std::move(e))}; }
 /// large models get the O1 IR pipeline and FastISel: about 10x faster to
 /// compile, still each shared node computed once (docs/codegen.md).
 constexpr size_t kFullOptimizationNodes = 5000;
+/// Above this many, no IR pipeline at all: O1's instruction combining
+/// grows faster than the code (a 150k-node symbolic Jacobian of an SGA
+/// vector field took 24 s of CPU, 88% in LLVM's passes); the plan already
+/// computes each shared node once.
+constexpr size_t kLightOptimizationNodes = 60000;
 
-bool fullOptimization(const CodePlan &plan) {
-  return planNodes(plan) <= kFullOptimizationNodes;
+OptTier optTier(const CodePlan &plan) {
+  size_t nodes = planNodes(plan);
+  return nodes <= kFullOptimizationNodes    ? OptTier::O2
+         : nodes <= kLightOptimizationNodes ? OptTier::O1
+                                            : OptTier::O0;
 }
 
 /// Host target machine and its builder.
 Expected<std::unique_ptr<llvm::TargetMachine>>
-hostMachine(llvm::orc::JITTargetMachineBuilder &jtmb, bool full) {
-  jtmb.setCodeGenOptLevel(full ? llvm::CodeGenOptLevel::Default
-                               : llvm::CodeGenOptLevel::None);
+hostMachine(llvm::orc::JITTargetMachineBuilder &jtmb, OptTier tier) {
+  jtmb.setCodeGenOptLevel(tier == OptTier::O2 ? llvm::CodeGenOptLevel::Default
+                                              : llvm::CodeGenOptLevel::None);
   auto tm = jtmb.createTargetMachine();
   if (!tm)
     return toError(tm.takeError());
@@ -712,7 +720,21 @@ std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
   return m;
 }
 
-void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full) {
+const char *optTierName(OptTier tier) {
+  switch (tier) {
+  case OptTier::O2:
+    return "O2";
+  case OptTier::O1:
+    return "O1";
+  case OptTier::O0:
+    return "O0";
+  }
+  return "?";
+}
+
+void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, OptTier tier) {
+  if (tier == OptTier::O0)
+    return;
   llvm::LoopAnalysisManager lam;
   llvm::FunctionAnalysisManager fam;
   llvm::CGSCCAnalysisManager cgam;
@@ -724,8 +746,9 @@ void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full) {
   pb.registerLoopAnalyses(lam);
   pb.crossRegisterProxies(lam, fam, cgam, mam);
   llvm::ModulePassManager mpm =
-      pb.buildPerModuleDefaultPipeline(full ? llvm::OptimizationLevel::O2
-                                            : llvm::OptimizationLevel::O1);
+      pb.buildPerModuleDefaultPipeline(tier == OptTier::O2
+                                           ? llvm::OptimizationLevel::O2
+                                           : llvm::OptimizationLevel::O1);
   mpm.run(m, mam);
 }
 
@@ -737,8 +760,8 @@ compileWithLljit(const CodePlan &plan, const std::string &cacheDir) {
   auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost();
   if (!jtmb)
     return toError(jtmb.takeError());
-  bool full = fullOptimization(plan);
-  auto tm = hostMachine(*jtmb, full);
+  OptTier tier = optTier(plan);
+  auto tm = hostMachine(*jtmb, tier);
   if (!tm)
     return Error{tm.error()};
 
@@ -751,11 +774,12 @@ compileWithLljit(const CodePlan &plan, const std::string &cacheDir) {
   std::unique_ptr<ObjectFileCache> cache;
   std::unique_ptr<llvm::MemoryBuffer> cached;
   if (!cacheDir.empty()) {
-    cache = std::make_unique<ObjectFileCache>(cacheDir, *m, **tm, full);
+    cache = std::make_unique<ObjectFileCache>(cacheDir, *m, **tm,
+                                              optTierName(tier));
     cached = cache->load();
   }
   if (!cached)
-    optimizeModule(*m, **tm, full);
+    optimizeModule(*m, **tm, tier);
 
   llvm::orc::LLJITBuilder builder;
   builder.setJITTargetMachineBuilder(*jtmb);
@@ -822,11 +846,11 @@ std::string printOptimizedModule(const CodePlan &plan) {
   llvm::LLVMContext ctx;
   std::unique_ptr<llvm::Module> m = emitModule(plan, ctx);
   if (auto jtmb = llvm::orc::JITTargetMachineBuilder::detectHost()) {
-    bool full = fullOptimization(plan);
-    if (auto tm = hostMachine(*jtmb, full)) {
+    OptTier tier = optTier(plan);
+    if (auto tm = hostMachine(*jtmb, tier)) {
       m->setDataLayout((*tm)->createDataLayout());
       m->setTargetTriple((*tm)->getTargetTriple().str());
-      optimizeModule(*m, **tm, full);
+      optimizeModule(*m, **tm, tier);
     }
   } else {
     llvm::consumeError(jtmb.takeError());

@@ -20,8 +20,13 @@ namespace ldae::codegen {
 std::unique_ptr<llvm::Module> emitModule(const CodePlan &plan,
                                          llvm::LLVMContext &ctx);
 
-/// Runs the standard O2 pipeline for `tm` on `m`.
-void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm, bool full = true);
+/// How hard LLVM works on a module: by the plan's size (docs/codegen.md).
+enum class OptTier { O2, O1, O0 };
+const char *optTierName(OptTier tier);
+
+/// Runs the standard pipeline of `tier` for `tm` on `m` (none for O0).
+void optimizeModule(llvm::Module &m, llvm::TargetMachine &tm,
+                    OptTier tier = OptTier::O2);
 
 /// The backend's table (what the module's kJitEntrySymbol returns).
 const JitBackend &llvmBackend();

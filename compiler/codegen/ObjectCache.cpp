@@ -133,7 +133,7 @@ bool writeAll(int fd, const char *data, size_t size) {
 
 ObjectFileCache::ObjectFileCache(std::string dir, const llvm::Module &m,
                                  const llvm::TargetMachine &tm,
-                                 bool fullOptimization)
+                                 const char *optimization)
     : dir_(std::move(dir)) {
   // The key binds an entry to everything its code depends on, with a
   // cryptographic hash: no two inputs share an entry by accident or by
@@ -144,7 +144,7 @@ ObjectFileCache::ObjectFileCache(std::string dir, const llvm::Module &m,
      << LLVM_VERSION_STRING << "; JIT backend " << kJitBackendVersion
      << "; " << tm.getTargetTriple().str() << "; "
      << tm.getTargetCPU() << "; " << tm.getTargetFeatureString() << "; "
-     << (fullOptimization ? "O2" : "O1") << "\n";
+     << optimization << "\n";
   m.print(os, nullptr);
   key_ = hex(llvm::SHA256::hash(llvm::ArrayRef(
       reinterpret_cast<const uint8_t *>(text.data()), text.size())));

@@ -42,7 +42,7 @@ class ObjectFileCache : public llvm::ObjectCache {
 public:
   /// `dir` is created when the first entry is written.
   ObjectFileCache(std::string dir, const llvm::Module &m,
-                  const llvm::TargetMachine &tm, bool fullOptimization);
+                  const llvm::TargetMachine &tm, const char *optimization);
 
   /// The object stored for the module, or null (absent or unusable); a
   /// hit marks the entry as recently used.
