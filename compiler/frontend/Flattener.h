@@ -374,6 +374,12 @@ private:
   bool resolveType(InstNode &node);
   void createLeafSlots(InstNode &node);
   bool isInitialParameter(const InstNode &node);
+  /// Parameters whose value failed (reported): what reads them is not
+  /// reported again.
+  std::set<ir::ParamId> failedParameters_;
+public:
+  bool readsFailedParameter(ir::ExprRef e) const;
+private:
   /// The variables of parameters with fixed = false (initialParameter).
   std::set<ir::VarId> initialParameterVars_;
   void createParameter(InstNode &node, const std::string &name,

@@ -843,6 +843,10 @@ std::optional<double> scalarNumber(Flattener &f, const Mod &mod,
     return std::nullopt;
   }
   ir::ExprRef e = v->scalarExpr();
+  // A parameter whose own value failed has had its error: whatever is
+  // computed from it would only repeat it (division by zero with its 0).
+  if (f.readsFailedParameter(e))
+    return std::nullopt;
   std::string evalError;
   std::optional<double> c =
       binding ? f.bindingValue(e, &evalError) : f.constantValue(e, &evalError);
@@ -922,7 +926,10 @@ void Flattener::createParameter(InstNode &node, const std::string &name,
   if (p.isInteger && p.value != std::floor(p.value))
     report(DiagId::ErrModifierType, p.loc,
                   {what, "an Integer", fmtInteger(p.value)});
+  bool failed = !haveValue && mod && mod->value;
   ir::ParamId id = model_->addParameter(std::move(p));
+  if (failed)
+    failedParameters_.insert(id);
   node.slots.push_back({true, id});
 }
 

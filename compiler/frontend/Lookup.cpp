@@ -367,6 +367,8 @@ std::optional<Value> Flattener::lowerRef(const ast::Expr &ref,
           --stringDepth_;
           if (bound && bound->isString)
             return bound;
+          if (!bound)
+            return std::nullopt; // its binding's error is reported
         }
         if (t.node->builtin == BuiltinType::String ||
             t.slot >= static_cast<int64_t>(t.node->slots.size())) {

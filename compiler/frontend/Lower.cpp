@@ -82,6 +82,15 @@ void Flattener::addInstanceNotes(Diagnostic &d) {
   }
 }
 
+bool Flattener::readsFailedParameter(ir::ExprRef e) const {
+  if (failedParameters_.empty() || !e || e->isConstant())
+    return false;
+  for (ir::ParamId p : ir::freeParameters(e))
+    if (failedParameters_.count(p))
+      return true;
+  return false;
+}
+
 std::optional<double> Flattener::constantValue(ir::ExprRef e,
                                                std::string *evalError) {
   if (!e)

@@ -129,8 +129,10 @@ def _run_member(model, spec, index, member):
 
 
 #: How often a member that ran alone in a task whose worker died runs
-#: again before it counts as the one that kills its worker.
-_MEMBER_TRIES = 2
+#: again before it counts as the one that kills its worker: never, since
+#: it ran with nothing else in flight and Dask itself tried it on three
+#: workers (each death of a worker also takes time to recover from).
+_MEMBER_TRIES = 0
 
 #: The status of a member whose worker process died running it (a crash
 #: in native code, the operating system's out-of-memory killer), or that
@@ -399,10 +401,13 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
         # Results are fetched by the client's event loop as tasks end, not
         # one blocking round trip per chunk. A task whose worker died (Dask
         # retries it on others, then gives up: KilledWorker) loses no other
-        # member: its chunk runs again one member per task, and the member
-        # that kills its worker alone is reported, with its parameters. A
-        # member alone is tried again (_MEMBER_TRIES times): its result may
-        # have been lost with a worker another member killed after it ran.
+        # member: its members become suspects, run again one at a time
+        # once nothing else is in flight, so that a worker's death names
+        # the one member it ran (Dask counts a death against every task
+        # queued on the worker too, and a member queued beside the one
+        # that kills its workers was reported with it on a busy machine).
+        # The member that kills its worker alone is reported, with its
+        # parameters.
         # A watchdog: with tasks pending and no worker left for
         # _NO_WORKER_GRACE seconds (workers that died and were not
         # restarted), the members left are reported as not run and the
@@ -410,7 +415,12 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
         grace = float(os.environ.get("LDAEC_SWEEP_NO_WORKER_GRACE",
                                      _NO_WORKER_GRACE))
         alone_since = None
-        while chunk_of:
+        suspects = []
+        while chunk_of or suspects:
+            if suspects and not chunk_of:
+                member = suspects.pop(0)
+                chunk_of[client.submit(run_chunk, spec, [member],
+                                       pure=False)] = [member]
             try:
                 done, _ = distributed.wait(list(chunk_of),
                                            timeout=_WATCH_INTERVAL,
@@ -437,9 +447,7 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
                     if again:
                         for member in again:
                             tries[member[0]] = tries.get(member[0], 0) + single
-                            f = client.submit(run_chunk, spec, [member],
-                                              pure=False)
-                            chunk_of[f] = [member]
+                        suspects += again
                         continue
                     [(index, params)] = chunk
                     batch = [_not_run(index, params,
@@ -456,7 +464,10 @@ def _on_dask(spec, members, scheduler, client, n_workers, chunk_size,
                 batch = [_not_run(i, p, "no worker was left to run it (the "
                                   "cluster's workers died and none came back "
                                   "within %g s)" % grace)
-                         for chunk in chunk_of.values() for i, p in chunk]
+                         for chunk in (list(chunk_of.values()) +
+                                       [[m] for m in suspects])
+                         for i, p in chunk]
+                suspects.clear()
                 client.cancel(list(chunk_of))
                 chunk_of.clear()
                 counter.add(batch)
