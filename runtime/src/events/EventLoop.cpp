@@ -64,9 +64,14 @@ double EventLoop::nextTimeEvent(double t, const double *y,
       continue;
     // start + k * interval, never accumulated: the instants stay exact.
     double k = std::max(0.0, std::ceil((t - s0) / iv));
-    while (s0 + k * iv <= t)
+    for (int tries = 0; tries < 4 && s0 + k * iv <= t; ++tries)
       k += 1;
-    next = std::min(next, s0 + k * iv);
+    // An interval below the resolution of time at t (sample(0.1, 1e-308))
+    // has no next instant after t: the closest time is the next, and the
+    // chattering check names the clause (counting until an instant after
+    // t hung the run).
+    double at = s0 + k * iv;
+    next = std::min(next, at > t ? at : std::nextafter(t, HUGE_VAL));
   }
   return next;
 }
