@@ -82,9 +82,18 @@ bool Flattener::applySubscripts(const std::vector<ast::ExprPtr> &subs,
       report(DiagId::ErrSubscriptNotInteger, subs[k]->loc, {what});
       return false;
     }
-    if (runTime && v->shape.empty() && !constantValue(v->elems[0])) {
+    std::string evalError;
+    if (runTime && v->shape.empty() &&
+        !constantValue(v->elems[0], &evalError)) {
       // Known at run time: keep the dimension whole; selectAtRunTime
-      // picks the element.
+      // picks the element. A constant that cannot be evaluated (x[i -
+      // (0/0)]) is no value at run time either.
+      if (!evalError.empty()) {
+        report(DiagId::ErrValueNotANumber,
+               SourceRange{subs[k]->loc, subs[k]->length},
+               {"subscript of '" + what + "'", evalError});
+        return false;
+      }
       if (!isIntegerValued(v->elems[0])) {
         report(DiagId::ErrSubscriptNotInteger, subs[k]->loc, {what});
         return false;
