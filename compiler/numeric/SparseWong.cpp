@@ -477,8 +477,16 @@ struct Hessenberg {
 
 /// The Wong sequences of the Hessenberg form; fills dims, steps and the
 /// free directions (over [x; z]).
-void wongHessenberg(Hessenberg &h, PencilAnalysis &out, MatrixXd &free) {
-  const int r = h.r, m = h.m, cap = r + m + 2;
+/// Steps of either sequence past which the analysis is given up: a regular
+/// pencil stops after its index, and a structurally singular chain (3000
+/// states, one equation missing: a mutation test) shrinks V by one
+/// direction per step, each step a dense SVD, minutes in all.
+constexpr int kMaxStructuredSteps = 64;
+
+/// False: given up after kMaxStructuredSteps steps.
+bool wongHessenberg(Hessenberg &h, PencilAnalysis &out, MatrixXd &free) {
+  const int r = h.r, m = h.m,
+            cap = std::min(r + m + 2, kMaxStructuredSteps);
   // V: V_{i+1} = ker G_i, G_i = [C 0; U_i F11, U_i F12] with U_i = L_i
   // E11^-1 and L_i the annihilator of X_i = P_x V_i (L_0 empty).
   MatrixXd U(0, r), G;
@@ -492,6 +500,8 @@ void wongHessenberg(Hessenberg &h, PencilAnalysis &out, MatrixXd &free) {
       break;
     }
     dimPrev = dim;
+    if (i + 1 == cap)
+      return false;
     // L_{i+1}: C and the rows of U_i F11 that U_i F12 leaves free.
     MatrixXd stacked = h.c;
     if (U.rows()) {
@@ -525,13 +535,15 @@ void wongHessenberg(Hessenberg &h, PencilAnalysis &out, MatrixXd &free) {
         break;
       }
       prev = dim;
+      if (i + 1 == cap)
+        return false;
     }
     out.dimW = prev;
   }
   // V ∩ T: the (Y a, z) in ker G.
   if (m == 0) {
     free = MatrixXd(r + m, 0);
-    return;
+    return true;
   }
   MatrixXd ym = MatrixXd::Zero(r + m, Y.cols() + m);
   ym.topLeftCorner(r, Y.cols()) = Y;
@@ -541,6 +553,7 @@ void wongHessenberg(Hessenberg &h, PencilAnalysis &out, MatrixXd &free) {
   free.resize(r + m, n.cols());
   free.topRows(r) = Y * n.topRows(Y.cols());
   free.bottomRows(m) = n.bottomRows(m);
+  return true;
 }
 
 void denseOn(const MatrixXd &E, const MatrixXd &F, double tol,
@@ -658,7 +671,10 @@ PencilAnalysis analyzePencil(const SparsePencil &p, const PencilOptions &opts) {
                               h.lu.rcondEstimate() > opts.tol);
   }
   if (structured) {
-    wongHessenberg(h, out, free);
+    if (!wongHessenberg(h, out, free)) {
+      out.path = "too many steps";
+      return out;
+    }
     out.path = "structured";
   } else if (out.reducedCols <= opts.denseFallbackLimit &&
              out.reducedRows <= opts.denseFallbackLimit) {
