@@ -179,8 +179,10 @@ bool analyzeInitialization(PassContext &s, const ir::DaeSystem &sys,
   rep.dof = rep.unknowns - rep.equations;
 
   auto textOf = [&](int r) {
+    // Bounded: substituted expressions of a shared DAG grow exponentially
+    // when written out (a heat grid's took minutes; issue 28).
     if (is.text[r].empty())
-      is.text[r] = ir::printLsd(is.expr[r], &s.model) + " = 0";
+      is.text[r] = ir::printLsdBrief(is.expr[r], &s.model, 400) + " = 0";
     return is.text[r];
   };
   graph::Matching m = graph::maximumMatching(is.g);
