@@ -49,6 +49,7 @@ bool isBuiltinName(const std::string &n) {
       "rem", "integer", "Integer", "sample", "edge", "change", "delay",
       "reinit", "assert", "terminate", "cardinality", "semiLinear", "String",
       "abs", "sign", "sqrt", "min", "max", "mod", "floor", "ceil", "cat",
+      "getInstanceName",
   };
   for (const char *b : names)
     if (n == b)
@@ -334,6 +335,15 @@ std::optional<Value> Flattener::lowerCall(const ast::Expr &call,
     if (!v || *order < 1)
       return v;
     return map1Value(*v, [&](ir::ExprRef x) { return ir::withNoEvent(c, x); });
+  }
+  if (name == "getInstanceName") {
+    // MLS 3.7.4: the simulated model's name and the instance's path
+    // ("Vehicle.engine.controller"); in a function, unspecified: the
+    // model's name.
+    if (!argCount(0, 0))
+      return std::nullopt;
+    std::string path = scope.inst ? scope.inst->path : "";
+    return Value::string(model_->name + (path.empty() ? "" : "." + path));
   }
   if (name == "initial" || name == "terminal") {
     if (!argCount(0, 0))

@@ -244,14 +244,6 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
            {"external language \"" + x.language + "\""});
     return std::nullopt;
   }
-  // Calls with the same arguments would be one shared node, and an impure
-  // function (Modelica.Math.Random's generators) may return another value
-  // each time: refused, never merged.
-  if (fn.impure) {
-    report(DiagId::ErrUnsupported, at,
-           {"impure external function '" + fn.name + "'"});
-    return std::nullopt;
-  }
   std::vector<const ast::Component *> outputs;
   for (const ast::Component &c : fn.components)
     if (c.prefix.causality == ast::Causality::Output)
@@ -487,6 +479,8 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     report(DiagId::ErrExternalBuild, at, {fn.name, dlerror()});
     return std::nullopt;
   }
+  if (fn.impure)
+    return impureCall(fn, entry, in, outputs, outOffset, numOut, fenv, at);
   ir::ExternalFunction f;
   f.name = fn.name;
   f.symbol = symbol;

@@ -59,6 +59,8 @@ void Flattener::flattenInstance(InstNode &node) {
   for (const auto &[section, cls] : node.initialAlgorithms)
     flattenAlgorithm(*section, Scope{&node, cls}, /*initial=*/true);
   for (const auto &[eq, cls] : node.initialEquations) {
+    if (adoptedInitialEquations_.count({&node, eq}))
+      continue;
     EqSink sink;
     sink.out = &model_->initialEquations;
     sink.origin = ir::EquationOrigin::Initial;

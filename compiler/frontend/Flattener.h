@@ -16,6 +16,7 @@
 #include "frontend/Frontend.h"
 #include "frontend/Value.h"
 #include "ir/Differentiate.h"
+#include "ir/External.h"
 #include "ir/Model.h"
 #include "support/Diagnostics.h"
 
@@ -336,6 +337,26 @@ public:
   std::optional<std::vector<Value>> externalCall(const ast::ClassDef &fn,
                                                  Env &fenv);
 
+  // ----- ImpureCalls.cpp
+  /// A call of impure external function `fn` (wrapper `entry`, inputs
+  /// `in`): made once, now, where a parameter's value is computed (see
+  /// ImpureContext); its outputs are constants.
+  std::optional<std::vector<Value>>
+  impureCall(const ast::ClassDef &fn, ir::ExternalEntry entry,
+             const std::vector<ir::ExprRef> &in,
+             const std::vector<const ast::Component *> &outputs,
+             const std::map<const ast::Component *, size_t> &outOffset,
+             size_t numOut, Env &fenv, SourceRange at);
+  /// While one lives, the flattener computes a parameter's value: the one
+  /// place an impure function may be called (MLS 12.3 allows bindings of
+  /// parameters with fixed = false and initial equations; ldaec calls it
+  /// when compiling, ImpureCalls.cpp).
+  struct ImpureContext {
+    Flattener &f;
+    explicit ImpureContext(Flattener &f) : f(f) { ++f.impureContext_; }
+    ~ImpureContext() { --f.impureContext_; }
+  };
+
   /// Reports through the engine once per (diagnostic, location, text):
   /// a class instantiated many times reports its error once.
   Diagnostic &report(DiagId id, SourceRange range,
@@ -374,6 +395,11 @@ private:
   bool resolveType(InstNode &node);
   void createLeafSlots(InstNode &node);
   bool isInitialParameter(const InstNode &node);
+  /// Whether `node` has `fixed = false`.
+  bool fixedFalse(const InstNode &node);
+  /// An Integer or Boolean parameter with fixed = false takes its initial
+  /// equation `p = expr` as its binding (Instantiate.cpp).
+  void adoptInitialEquation(InstNode &node);
   /// Parameters whose value failed (reported): what reads them is not
   /// reported again.
   std::set<ir::ParamId> failedParameters_;
@@ -382,6 +408,9 @@ public:
 private:
   /// The variables of parameters with fixed = false (initialParameter).
   std::set<ir::VarId> initialParameterVars_;
+  /// Initial equations that became a parameter's binding, per instance.
+  std::set<std::pair<const InstNode *, const ast::Equation *>>
+      adoptedInitialEquations_;
   void createParameter(InstNode &node, const std::string &name,
                        const ModPtr &mod);
   void createVariable(InstNode &node, const std::string &name,
@@ -616,6 +645,7 @@ private:
   bool budgetReported_ = false;
   size_t instances_ = 0; // component instances created, array elements each
   bool readingBinding_ = false; // see bindingValue
+  int impureContext_ = 0;        // see ImpureContext
   std::set<std::string> reported_;
   Diagnostic dropped_;
 

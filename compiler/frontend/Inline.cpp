@@ -44,6 +44,16 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
            {fn.name, std::to_string(kMaxInlineDepth)});
     return std::nullopt;
   }
+  // An impure function is called when compiling, where a parameter's value
+  // is computed (ImpureCalls.cpp); elsewhere it is refused at the call the
+  // model makes.
+  if (fn.impure && impureContext_ == 0) {
+    report(DiagId::ErrUnsupported, where,
+           {"a call of impure function '" + fn.name +
+            "' outside a parameter's value (ldaec calls impure functions "
+            "once, when compiling, where a parameter's value is computed)"});
+    return std::nullopt;
+  }
   // `extends` (MSL's densities extend partialDensity, which declares the
   // input u and the output y): the variables of the bases come first, in
   // order, then the function's own; the algorithm is the one of the chain
@@ -176,7 +186,9 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   };
   for (size_t i = 0; i < comps.size(); ++i) {
     const ast::Component &c = *comps[i];
-    if (!numericType(c.typeName, *owner[i]) &&
+    // Strings are values known when compiling (Value::str): scalars only.
+    bool scalarString = isStringType(c.typeName) && c.dims.empty();
+    if (!numericType(c.typeName, *owner[i]) && !scalarString &&
         !(fn.isExternal && externalOnlyType(c.typeName))) {
       report(DiagId::ErrUnsupported, c.typeName.loc,
              {"function variables of type '" + c.typeName.str() + "'"});
@@ -194,7 +206,7 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
         value = lower(*arg, scope, env);
         if (!value)
           return std::nullopt;
-        if (value->isString != (fn.isExternal && isStringType(c.typeName))) {
+        if (value->isString != isStringType(c.typeName)) {
           report(DiagId::ErrArgumentType, SourceRange{arg->loc, arg->length},
                  {c.name, fn.name, "a number", "a string"});
           return std::nullopt;
@@ -229,6 +241,20 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
       } else {
         report(DiagId::ErrMissingArgument, where, {c.name, fn.name});
         return std::nullopt;
+      }
+    } else if (isStringType(c.typeName)) {
+      // A String output or local: "" until the body assigns it.
+      value = Value::string("");
+      if (c.mod && c.mod->value) {
+        value = lower(*c.mod->value, fscope, &fenv);
+        if (!value)
+          return std::nullopt;
+        if (!value->isString) {
+          report(DiagId::ErrModifierType, c.mod->value->loc,
+                 {"the value of String '" + c.name + "'", "a string",
+                  "a number"});
+          return std::nullopt;
+        }
       }
     } else {
       // Outputs and locals: unassigned (null) until the body assigns them.
@@ -309,13 +335,25 @@ bool Flattener::assign(const ast::Expr &target, Value value,
       report(DiagId::ErrAssignInput, where, {name});
       return false;
     }
-  if (value.isString) {
-    report(DiagId::ErrStringOperand, where, {":="});
-    return false;
-  }
   // After a break or return on some paths, the assignment holds on the
   // others only.
   ir::ExprRef exited = exitedOf(env);
+  if (value.isString || slot->isString) {
+    // A String is one text known when compiling: a whole assignment on
+    // every path.
+    if (value.isString != slot->isString ||
+        !target.parts[0].subscripts.empty()) {
+      report(DiagId::ErrStringOperand, where, {":="});
+      return false;
+    }
+    if (exited) {
+      report(DiagId::ErrUnsupported, where,
+             {"a String assigned after a break or return on some paths"});
+      return false;
+    }
+    slot->str = std::move(value.str);
+    return true;
+  }
   auto write = [&](ir::ExprRef &element, ir::ExprRef v) {
     if (!exited)
       element = v;
@@ -395,6 +433,12 @@ Flattener::ExecResult Flattener::execIf(const ast::Statement &st, size_t branch,
   for (size_t k = 0; k < env.vars.size(); ++k) {
     Value &out = env.vars[k].second;
     const Value &a = thenEnv.vars[k].second, &b = elseEnv.vars[k].second;
+    if (a.isString && a.str != b.str) {
+      report(DiagId::ErrUnsupported, SourceRange{condExpr.loc, condExpr.length},
+             {"a String '" + env.vars[k].first +
+              "' that this condition, known only at run time, chooses"});
+      return ExecResult::Error;
+    }
     for (size_t i = 0; i < out.elems.size(); ++i) {
       ir::ExprRef x = a.elems[i], y = b.elems[i];
       out.elems[i] = x == y ? x : (x && y ? ctx().ifThenElse(c, x, y) : nullptr);

@@ -757,6 +757,12 @@ void Flattener::createLeafSlots(InstNode &node) {
     count *= n;
   if (node.builtin == BuiltinType::String)
     return; // strings only document; using one in an equation is an error
+  if (node.isParameterLike() && !(node.mod && node.mod->value))
+    adoptInitialEquation(node);
+  // A parameter's value is where an impure function may be called.
+  std::optional<ImpureContext> impure;
+  if (node.variability == ast::Variability::Parameter)
+    impure.emplace(*this);
   node.initialParameter = isInitialParameter(node);
   node.slots.reserve(count);
   for (int64_t i = 0; i < count; ++i) {
@@ -783,6 +789,47 @@ void Flattener::createLeafSlots(InstNode &node) {
       e.text = "der(" + model_->variables[slot.id].name + ") = 0";
       model_->equations.push_back(std::move(e));
     }
+}
+
+bool Flattener::fixedFalse(const InstNode &node) {
+  ModPtr fixed = node.mod ? node.mod->sub("fixed") : nullptr;
+  if (!fixed || !fixed->value)
+    return false;
+  std::optional<Value> v = lowerModValue(*fixed);
+  if (!v || v->isString || v->elems.size() != 1)
+    return false;
+  std::optional<double> c = constantValue(v->elems[0]);
+  return c && *c == 0;
+}
+
+void Flattener::adoptInitialEquation(InstNode &node) {
+  // An Integer or Boolean parameter with fixed = false cannot be an unknown
+  // of the continuous initialization (a Real one is: isInitialParameter).
+  // Its initial equation `p = expr` (MSL's Noise blocks: `localSeed =
+  // automaticLocalSeed(getInstanceName())`) computes it from parameters,
+  // which a binding does at the same instant: it becomes p's binding.
+  if ((node.builtin != BuiltinType::Integer &&
+       node.builtin != BuiltinType::Boolean) ||
+      !node.dims.empty() || !node.parent ||
+      node.variability != ast::Variability::Parameter || !fixedFalse(node))
+    return;
+  for (const auto &[eq, cls] : node.parent->initialEquations) {
+    if (eq->kind != ast::EquationKind::Simple || !eq->lhs || !eq->rhs ||
+        eq->lhs->kind != ast::ExprKind::Ref || eq->lhs->parts.size() != 1 ||
+        eq->lhs->parts[0].name != node.name ||
+        !eq->lhs->parts[0].subscripts.empty())
+      continue;
+    auto mod = std::make_shared<Mod>(node.mod ? *node.mod : Mod{});
+    mod->value = eq->rhs.get();
+    mod->text = eq->text;
+    mod->loc = eq->rhs->loc;
+    mod->length = eq->rhs->length;
+    mod->scope = Scope{node.parent, cls};
+    mod->index.clear();
+    node.mod = mod;
+    adoptedInitialEquations_.insert({node.parent, eq});
+    return;
+  }
 }
 
 bool Flattener::isInitialParameter(const InstNode &node) {
@@ -814,11 +861,7 @@ bool Flattener::isInitialParameter(const InstNode &node) {
     }
     return reads;
   }
-  std::optional<Value> v = lowerModValue(*fixed);
-  if (!v || v->isString || v->elems.size() != 1)
-    return false;
-  std::optional<double> c = constantValue(v->elems[0]);
-  return c && *c == 0;
+  return fixedFalse(node);
 }
 
 namespace {

@@ -4,9 +4,10 @@
 
 #include "Traverse.h"
 #include "ir/Query.h"
-#include "ir/Differentiate.h"
 
 #include <cassert>
+#include <cmath>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace ldae::ir {
@@ -130,7 +131,7 @@ ExprRef solveLinear(ExprContext &ctx, ExprRef r, VarId v) {
   std::unordered_set<const Expr *> readsV;
   for (ExprRef n : topologicalOrder(std::span(&r, 1))) {
     ExprKind k = n->kind();
-    bool reads = k == ExprKind::Variable && n->var() == v;
+    bool reads = k == ExprKind::Variable && n->var() == v && n->order() == 0;
     for (ExprRef o : n->operands())
       reads = reads || readsV.count(o);
     if (!reads)
@@ -141,11 +142,47 @@ ExprRef solveLinear(ExprContext &ctx, ExprRef r, VarId v) {
     if (!arithmetic)
       return nullptr;
   }
-  Differentiator d(ctx);
-  ExprRef coef = d.partial(r, VarKey{v, 0});
-  if (!coef->isConstant() || coef->isConstant(0))
+  // v's coefficient from the sums and products that read it only: a term
+  // that does not read v contributes exactly nothing (its derivative would
+  // be `0 * t`, kept for a t that may be undefined: MSL's normal quantile
+  // beside a noise block's pre(r)).
+  std::unordered_map<const Expr *, double> coefficient;
+  for (ExprRef n : topologicalOrder(std::span(&r, 1))) {
+    if (!readsV.count(n))
+      continue;
+    double c = 0;
+    switch (n->kind()) {
+    case ExprKind::Variable:
+      c = 1;
+      break;
+    case ExprKind::Add:
+      for (ExprRef o : n->operands())
+        if (readsV.count(o))
+          c += coefficient[o];
+      break;
+    default: { // Mul: linear only with one factor reading v, the rest known
+      int reading = 0;
+      c = 1;
+      for (ExprRef o : n->operands()) {
+        if (readsV.count(o)) {
+          ++reading;
+          c *= coefficient[o];
+        } else if (o->isConstant()) {
+          c *= o->constant();
+        } else {
+          return nullptr;
+        }
+      }
+      if (reading != 1)
+        return nullptr;
+    }
+    }
+    coefficient[n] = c;
+  }
+  double coef = coefficient[r];
+  if (coef == 0 || !std::isfinite(coef))
     return nullptr;
-  return ctx.div(ctx.neg(r0), coef);
+  return ctx.div(ctx.neg(r0), ctx.constant(coef));
 }
 
 } // namespace ldae::ir
