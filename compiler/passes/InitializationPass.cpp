@@ -274,6 +274,13 @@ bool analyzeInitialization(PassContext &s, const ir::DaeSystem &sys,
     Eigen::MatrixXd J;
     f(x, r0);
     if (numeric::finiteDifferenceJacobian(f, x, r0, J) && J.allFinite()) {
+      // Each row equilibrated (the rank is the same): a row divided by an
+      // inductance (1/L = 2e4) beside rows of an off diode's conductance
+      // (1e-3) must not make those look like round-off of the rank
+      // tolerance, relative to the largest entry (MSL's Rectifier).
+      for (Eigen::Index r = 0; r < J.rows(); ++r)
+        if (double big = J.row(r).cwiseAbs().maxCoeff(); big > 0)
+          J.row(r) /= big;
       // Add the fixed rows one by one after the residuals.
       Eigen::MatrixXd base = J.topRows(firstFixed);
       auto rankOf = [](const Eigen::MatrixXd &A) {

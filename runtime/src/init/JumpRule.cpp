@@ -128,8 +128,13 @@ JumpDirections jumpDirections(const ldae_model &m, int set, const MatrixXd &E,
                               const MatrixXd &Fy, const VectorXd &D) {
   JumpDirections jd;
   const int n = m.n;
-  MatrixXd Es = E * D.asDiagonal(), Fs = Fy * D.asDiagonal();
-  MatrixXd own = numeric::jumpSpace(Es, -Fs, &jd.setIndex, kWongTol);
+  // The set's own pencil equilibrated as the written one: a rectifier's
+  // reduced row divided by an inductance (1/L = 2e4) beside rows of a
+  // diode's off conductance (1e-3) made the absolute rank tolerance call
+  // the index-1 set index 2 (MSL's Analog.Examples.Rectifier).
+  MatrixXd Es = E * D.asDiagonal(), Fs = -Fy * D.asDiagonal();
+  equilibrateRows(Es, Fs);
+  MatrixXd own = numeric::jumpSpace(Es, Fs, &jd.setIndex, kWongTol);
   auto useOwn = [&] {
     jd.basis = std::move(own);
     jd.dim = int(jd.basis.cols());
