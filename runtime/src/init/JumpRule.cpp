@@ -26,7 +26,13 @@ const int *originalRow(const ldae_model &m, int set) {
 
 /// Each row of the pencil divided by its largest entry in E or F: T is
 /// unchanged, and a capacitance of 1e-9 in one row must not look like zero
-/// beside a conductance in another.
+/// beside a conductance in another. Then E as a whole scaled to F's
+/// largest entry (T of (aE, F) is T of (E, F): a change of the time unit):
+/// the rank tolerance is relative to the larger of the two, and a circuit
+/// whose time constants are all short (MSL's SimpleTriacCircuit: L/R =
+/// 2e-7 s, a thyristor's 1e-6 s) had E x below it for a differential
+/// direction x the algebraic equations do not reach, which the sequence
+/// then took into T (index 2 for an index-1 set).
 void equilibrateRows(MatrixXd &E, MatrixXd &F) {
   for (Eigen::Index a = 0; a < E.rows(); ++a) {
     double s = std::max(E.row(a).cwiseAbs().maxCoeff(),
@@ -36,6 +42,11 @@ void equilibrateRows(MatrixXd &E, MatrixXd &F) {
       F.row(a) /= s;
     }
   }
+  if (E.size() == 0)
+    return;
+  double e = E.cwiseAbs().maxCoeff(), f = F.cwiseAbs().maxCoeff();
+  if (e > 0 && f > 0)
+    E *= f / e;
 }
 
 /// The pencil as written in scaled coordinates; `cols` are its unknowns.
