@@ -1,6 +1,7 @@
 // Event handling (see EventLoop.h and docs/events.md).
 #include "events/EventLoop.h"
 #include "events/RelationSearch.h"
+#include "events/RoundOffZeros.h"
 #include "init/ConsistentInit.h"
 
 #include <algorithm>
@@ -164,8 +165,11 @@ void EventLoop::noteJump(double t, const std::vector<double> &before,
   for (int i = 0; i < ev_.n(); ++i) {
     // States only: algebraic values may follow a discrete change anyway.
     double scale = std::max(std::fabs(before[i]), std::fabs(after[i]));
+    // A value within round-off of 0 made exact is no jump (RoundOffZeros.h).
+    double nominal = m_.nominal ? m_.nominal[i] : 1.0;
     if ((states_ && !states_[i]) || !differs(before[i], after[i]) ||
-        std::fabs(before[i] - after[i]) <= 1e-13 * scale)
+        std::fabs(before[i] - after[i]) <= 1e-13 * scale ||
+        (after[i] == 0 && std::fabs(before[i]) <= kRoundOffZero * nominal))
       continue;
     if (++count <= 8)
       moved += fmt::format("{}{} {:.10g} -> {:.10g}", moved.empty() ? "" : ", ",

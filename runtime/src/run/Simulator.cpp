@@ -15,6 +15,7 @@
 #include "results/RowLog.h"
 #include "ldae/ResultWriter.h"
 #include "events/RootWatch.h"
+#include "events/RoundOffZeros.h"
 #include "model/StateSelection.h"
 #include "events/TimeRoots.h"
 #include "ldae/Simulation.h"
@@ -241,6 +242,8 @@ bool restartAfterEvent(const ModelEval &ev, Integrator &integrator, double t,
                         "values leaves no step along the jump space; the "
                         "nearest consistent point is used\n",
                         t);
+  // The relations of the event iteration read this point.
+  snapRoundOffZeros(ev, init.y, init.yp, y.data(), yp.data());
   auto re =
       integrator.reinit(integrator.set(), t, init.y.data(), init.yp.data());
   if (!re) {
@@ -727,6 +730,21 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     return StageEnd::Done;
   };
 
+  // The initialization's point with its round-off zeros made exact (the
+  // initial event's relations read it), the integrator restarted there when
+  // one moved.
+  auto restartAtRoundOffZeros = [&](double te, std::vector<double> &ye,
+                                    std::vector<double> &ype,
+                                    std::string &failure) {
+    if (!snapRoundOffZeros(ev, ye, ype, m.start_y, m.start_yp))
+      return true;
+    if (auto re = integrator.reinit(integrator.set(), te, ye.data(), ype.data());
+        !re) {
+      failure = describeSolverError(te, re.error());
+      return false;
+    }
+    return true;
+  };
   // At the initial event a discrete value that changes changes the
   // initialization problem itself (OpenModelica's eventTest2: `d = if a >
   // 1 then 1 else 2` with `initial equation a + d = 0`): it is solved
@@ -755,7 +773,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         }
         ye = std::move(again.y);
         ype = std::move(again.yp);
-        return true;
+        return restartAtRoundOffZeros(te, ye, ype, failure);
       };
   // IDA predicts its first step from y': an algebraic unknown that changes
   // at once (an acceleration driven by a sine torque through MSL's
@@ -771,6 +789,9 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       return done(StageEnd::Done);
     }
   }
+  if (fromStart && events.active() &&
+      !restartAtRoundOffZeros(t, y, yp, res_.failure))
+    return done(StageEnd::Done);
   EventOutcome first = fromStart ? events.initial(t, y, yp, reinitialize)
                                  : events.resume(t, y, yp, reinit);
   if (auto end = concluded(first))
