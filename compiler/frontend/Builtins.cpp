@@ -119,6 +119,13 @@ Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
              {fname.str(), ast::classKindName(fn->kind)});
       return std::nullopt;
     }
+    // The tool's part of the library (ModelicaServices) is ldaec's.
+    if (isLoadResource(*fn)) {
+      std::optional<Value> path = lowerLoadResource(call, scope, env);
+      if (!path)
+        return std::nullopt;
+      return std::vector<Value>{std::move(*path)};
+    }
     return inlineCall(*fn, call, scope, env);
   }
   std::optional<Value> v = lowerCall(call, scope, env);

@@ -319,12 +319,10 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     returnType = typeOf(*returned);
     if (!returnType)
       return std::nullopt;
-    if (*returnType == CType::String) {
-      report(DiagId::ErrUnsupported, at,
-             {"external functions returning a String"});
-      return std::nullopt;
-    }
-    outOffset[returned] = numOut++;
+    // A String result is a text known when compiling: no slot in out[]
+    // (stringCall makes the call now).
+    if (*returnType != CType::String)
+      outOffset[returned] = numOut++;
   }
   Scope fscope{nullptr, &fn};
   for (const ast::Expr *e : argExprs) {
@@ -389,7 +387,7 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     args.push_back(arg);
   }
   for (const ast::Component *c : outputs)
-    if (!outOffset.count(c)) {
+    if (!outOffset.count(c) && c != returned) {
       report(DiagId::ErrUnsupported, at,
              {"output '" + c->name + "' not passed to the external call"});
       return std::nullopt;
@@ -413,6 +411,7 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     src << (args.empty() ? "void" : "") << ");\n";
   }
   std::string body;
+  bool stringResult = returned && *returnType == CType::String;
   {
     std::ostringstream w;
     w << "(const double *in, double *out) {\n";
@@ -438,7 +437,9 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       call += (i ? ", " : "") + v;
     }
     call += ")";
-    if (returned && *returnType == CType::Object)
+    if (stringResult)
+      w << "  const char *result = " << call << ";\n";
+    else if (returned && *returnType == CType::Object)
       w << "  out[0] = (double)(uintptr_t)" << call << ";\n";
     else if (returned)
       w << "  out[0] = (double)" << call << ";\n";
@@ -448,11 +449,13 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       if (args[i].output)
         w << "  for (int i = 0; i < " << args[i].count << "; ++i) out["
           << args[i].offset << " + i] = (double)a" << i << "[i];\n";
+    if (stringResult)
+      w << "  return result;\n";
     w << "}\n";
     body = w.str();
   }
   std::string symbol = "ldaeext_" + cFunction + "_" + shortHash(src.str() + body);
-  src << "void " << symbol << body;
+  src << (stringResult ? "const char *" : "void ") << symbol << body;
 
   CBuild build;
   build.source = src.str();
@@ -479,6 +482,9 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     report(DiagId::ErrExternalBuild, at, {fn.name, dlerror()});
     return std::nullopt;
   }
+  if (stringResult)
+    return stringCall(fn, reinterpret_cast<ExternalStringEntry>(entry), in,
+                      outputs, returned, outOffset, numOut, fenv, at);
   if (fn.impure)
     return impureCall(fn, entry, in, outputs, outOffset, numOut, fenv, at);
   ir::ExternalFunction f;

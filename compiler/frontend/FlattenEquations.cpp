@@ -370,8 +370,14 @@ void Flattener::flattenWhen(const ast::Equation &eq, const Scope &scope,
     clause.loc = k == 0 ? eq.loc : ce.loc;
     EqSink body;
     body.when = &clause;
-    for (const ast::Equation &b : eq.branches[k])
-      flattenEquation(b, scope, env, body);
+    std::optional<ImpureContext> atStart;
+    if (isInitialCall(ce))
+      atStart.emplace(*this);
+    {
+      WhenAssertsScope checkedWhereItFires(*this, &clause.asserts);
+      for (const ast::Equation &b : eq.branches[k])
+        flattenEquation(b, scope, env, body);
+    }
     model_->whenClauses.push_back(std::move(clause));
   }
 }

@@ -79,6 +79,15 @@ struct Mod {
   ModPtr sub(const std::string &name) const;
 };
 
+/// An external function's wrapper that returns its String result.
+using ExternalStringEntry = const char *(*)(const double *in, double *out);
+
+/// Whether `e` is `initial()` (CompileTimeCalls.cpp).
+bool isInitialCall(const ast::Expr &e);
+
+/// Whether `fn` is loadResource, which ldaec answers (LoadResource.cpp).
+bool isLoadResource(const ast::ClassDef &fn);
+
 /// `outer` over `inner`: outer's value wins; sub-modifiers merge by name.
 ModPtr mergeMods(const ModPtr &outer, const ModPtr &inner);
 
@@ -337,7 +346,12 @@ public:
   std::optional<std::vector<Value>> externalCall(const ast::ClassDef &fn,
                                                  Env &fenv);
 
-  // ----- ImpureCalls.cpp
+  // ----- LoadResource.cpp
+  /// loadResource(uri): the file name a URI names (MLS 13.5).
+  std::optional<Value> lowerLoadResource(const ast::Expr &call,
+                                         const Scope &scope, Env *env);
+
+  // ----- CompileTimeCalls.cpp
   /// A call of impure external function `fn` (wrapper `entry`, inputs
   /// `in`): made once, now, where a parameter's value is computed (see
   /// ImpureContext); its outputs are constants.
@@ -347,10 +361,28 @@ public:
              const std::vector<const ast::Component *> &outputs,
              const std::map<const ast::Component *, size_t> &outOffset,
              size_t numOut, Env &fenv, SourceRange at);
-  /// While one lives, the flattener computes a parameter's value: the one
-  /// place an impure function may be called (MLS 12.3 allows bindings of
-  /// parameters with fixed = false and initial equations; ldaec calls it
-  /// when compiling, ImpureCalls.cpp).
+  /// A call of external function `fn` returning a String (`returned`):
+  /// made now, the text and the other outputs constants.
+  std::optional<std::vector<Value>>
+  stringCall(const ast::ClassDef &fn, ExternalStringEntry entry,
+             const std::vector<ir::ExprRef> &in,
+             const std::vector<const ast::Component *> &outputs,
+             const ast::Component *returned,
+             const std::map<const ast::Component *, size_t> &outOffset,
+             size_t numOut, Env &fenv, SourceRange at);
+  /// The values of `in` now, or a located error naming `fn`.
+  std::optional<std::vector<double>>
+  argumentsNow(const ast::ClassDef &fn, const std::vector<ir::ExprRef> &in,
+               SourceRange at);
+  /// `outputs` as constants from `out`.
+  std::vector<Value>
+  constantOutputs(const std::vector<const ast::Component *> &outputs,
+                  const std::map<const ast::Component *, size_t> &outOffset,
+                  const std::vector<double> &out, Env &fenv);
+  /// While one lives, the flattener computes a parameter's value, or what
+  /// a branch under `initial()` alone computes (`when initial() then`,
+  /// `if initial() then` in an algorithm): the places an impure function
+  /// may be called, once, when compiling (CompileTimeCalls.cpp).
   struct ImpureContext {
     Flattener &f;
     explicit ImpureContext(Flattener &f) : f(f) { ++f.impureContext_; }
@@ -585,9 +617,37 @@ private:
   /// Collapses each recorded dimension of `v` to the element its run-time
   /// subscript selects (frontend/RunTimeSubscripts.cpp).
   Value selectAtRunTime(Value v, const std::vector<RunTimeSubscript> &runTime);
+  /// The assignment `slot[offsets] := value` whose subscripts `runTime`
+  /// are known only at run time: each element of the kept dimensions
+  /// takes `value` where the indices pick it, keeps its value elsewhere
+  /// (frontend/RunTimeSubscripts.cpp). `write` stores one element.
+  void assignAtRunTime(const Value &value, const std::vector<int64_t> &shape,
+                       const std::vector<int64_t> &offsets,
+                       const std::vector<RunTimeSubscript> &runTime,
+                       Value &slot,
+                       const std::function<void(ir::ExprRef &, ir::ExprRef)>
+                           &write);
+  /// The assert that `sub`'s index is within 1..size where the branches
+  /// being lowered are taken (branchGuard_, statementGuard_).
+  void indexInRange(const RunTimeSubscript &sub, int64_t size);
   /// While an if-expression's branch is lowered: the condition that takes
   /// it (and the enclosing branches'); null outside any.
   ir::ExprRef branchGuard_ = nullptr;
+  /// While an if-statement's branch (on variables) runs: the conditions
+  /// that take it; null outside any.
+  ir::ExprRef statementGuard_ = nullptr;
+  /// While a when-clause's body is lowered: its asserts, checked where it
+  /// fires (a subscript there is used only then); null outside any.
+  std::vector<ir::Assert> *whenAsserts_ = nullptr;
+  struct WhenAssertsScope {
+    Flattener &f;
+    std::vector<ir::Assert> *saved;
+    WhenAssertsScope(Flattener &f, std::vector<ir::Assert> *into)
+        : f(f), saved(f.whenAsserts_) {
+      f.whenAsserts_ = into;
+    }
+    ~WhenAssertsScope() { f.whenAsserts_ = saved; }
+  };
   /// Whether `index` can only take integer values: it reads no Real
   /// unknown and not time.
   bool isIntegerValued(ir::ExprRef index);

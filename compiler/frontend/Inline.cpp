@@ -45,7 +45,7 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     return std::nullopt;
   }
   // An impure function is called when compiling, where a parameter's value
-  // is computed (ImpureCalls.cpp); elsewhere it is refused at the call the
+  // is computed (CompileTimeCalls.cpp); elsewhere it is refused at the call the
   // model makes.
   if (fn.impure && impureContext_ == 0) {
     report(DiagId::ErrUnsupported, where,
@@ -379,10 +379,23 @@ bool Flattener::assign(const ast::Expr &target, Value value,
   }
   std::vector<int64_t> shape, offsets;
   std::vector<int64_t> dims = slot->shape;
+  std::vector<RunTimeSubscript> runTime;
   if (!applySubscripts(subs, dims, name, scope, &env, shape, offsets,
-                       target.loc))
+                       target.loc, &runTime))
     return false;
   slot = env.find(name); // lowering subscripts may not move it, but be safe
+  if (!runTime.empty()) {
+    size_t kept = offsets.size();
+    for (const RunTimeSubscript &sub : runTime)
+      kept = sub.size ? kept / static_cast<size_t>(sub.size) : 0;
+    if (!value.shape.empty() && value.elems.size() != kept) {
+      report(DiagId::ErrShapeMismatch, where,
+             {":=", describeShape(shape), describeShape(value.shape)});
+      return false;
+    }
+    assignAtRunTime(value, shape, offsets, runTime, *slot, write);
+    return true;
+  }
   if (!value.shape.empty() && value.elems.size() != offsets.size()) {
     report(DiagId::ErrShapeMismatch, where,
            {":=", describeShape(shape), describeShape(value.shape)});
@@ -418,11 +431,26 @@ Flattener::ExecResult Flattener::execIf(const ast::Statement &st, size_t branch,
   }
   // A condition on variables: both ways, merged element by element.
   Env thenEnv = env, elseEnv = env;
-  if (execStatements(st.branches[branch], fn, fscope, thenEnv) !=
-          ExecResult::Ok ||
-      execIf(st, branch + 1, fn, fscope, elseEnv) != ExecResult::Ok)
-    return ExecResult::Error;
   ir::ExprRef c = cond->scalarExpr();
+  const ir::ExprRef outerGuard = statementGuard_;
+  struct GuardRestore {
+    ir::ExprRef &guard, saved;
+    ~GuardRestore() { guard = saved; }
+  } restore{statementGuard_, outerGuard};
+  {
+    std::optional<ImpureContext> atStart;
+    if (isInitialCall(condExpr))
+      atStart.emplace(*this);
+    statementGuard_ = outerGuard ? ctx().logicalAnd(outerGuard, c) : c;
+    if (execStatements(st.branches[branch], fn, fscope, thenEnv) !=
+        ExecResult::Ok)
+      return ExecResult::Error;
+  }
+  ir::ExprRef notC = ctx().logicalNot(c);
+  statementGuard_ = outerGuard ? ctx().logicalAnd(outerGuard, notC) : notC;
+  if (execIf(st, branch + 1, fn, fscope, elseEnv) != ExecResult::Ok)
+    return ExecResult::Error;
+  statementGuard_ = outerGuard;
   auto mergeExit = [&](ir::ExprRef a, ir::ExprRef b) -> ir::ExprRef {
     if (a == b)
       return a;

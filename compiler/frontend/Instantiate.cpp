@@ -308,6 +308,11 @@ void Flattener::elaborateComponent(InstNode &node, bool membersOnly) {
   InstanceContext context(*this, &node);
   node.state = InstNode::State::Elaborating;
   const ast::Component &d = *node.decl;
+  // A parameter's sizes may come from its value (`parameter Real A[:, :]
+  // = readRealMatrix(...)`): an impure call is made there too.
+  std::optional<ImpureContext> impure;
+  if (d.prefix.variability == ast::Variability::Parameter)
+    impure.emplace(*this);
   node.flow = d.prefix.flow || (node.parent && node.parent->flow);
   node.variability = d.prefix.variability;
   if (node.parent && node.parent->isParameterLike() &&

@@ -180,8 +180,15 @@ Flattener::execWhenStatement(const ast::Statement &st, const ast::ClassDef &fn,
     std::vector<const ast::Expr *> assigned;
     assignedNames(st.branches[k], assigned);
     Env branch = env;
-    if (execStatements(st.branches[k], fn, scope, branch) != ExecResult::Ok)
-      return ExecResult::Error;
+    std::optional<ImpureContext> atStart;
+    if (isInitialCall(ce))
+      atStart.emplace(*this);
+    {
+      WhenAssertsScope checkedWhereItFires(*this, &clause.asserts);
+      if (execStatements(st.branches[k], fn, scope, branch) != ExecResult::Ok)
+        return ExecResult::Error;
+    }
+    atStart.reset();
     for (const ast::Expr *t : assigned) {
       const std::string &name = t->parts[0].name;
       std::optional<Value> var = lower(*wholeVariable(*t), scope, nullptr);

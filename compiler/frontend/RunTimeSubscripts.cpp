@@ -84,29 +84,73 @@ Value Flattener::selectAtRunTime(Value v,
               element(j), chosen);
         out.elems.push_back(chosen);
       }
-    ir::Assert inRange;
-    inRange.condition = ctx().logicalAnd(
-        ctx().compare(ir::CompareKind::Ge, sub.index, ctx().one(), true),
-        ctx().compare(ir::CompareKind::Le, sub.index,
-                      ctx().constant(static_cast<double>(size)), true));
-    // Inside an if-expression's branch the read happens only there.
-    if (branchGuard_)
-      inRange.condition = ctx().logicalOr(ctx().logicalNot(branchGuard_),
-                                          inRange.condition);
-    inRange.message = "index out of range for '" + sub.what + "' of size " +
-                      std::to_string(size);
-    inRange.loc = sub.where.begin;
-    // The same read lowered again (a loop body, an inlined function) needs
-    // one check.
-    bool known = false;
-    for (const ir::Assert &a : model_->asserts)
-      known = known || (a.condition == inRange.condition &&
-                        a.message == inRange.message);
-    if (!known)
-      model_->asserts.push_back(std::move(inRange));
+    indexInRange(sub, size);
     v = std::move(out);
   }
   return v;
+}
+
+void Flattener::indexInRange(const RunTimeSubscript &sub, int64_t size) {
+  // Inside an if-expression's or an if-statement's branch the subscript is
+  // used only where the branch is taken.
+  ir::ExprRef guard = branchGuard_;
+  if (statementGuard_)
+    guard = guard ? ctx().logicalAnd(guard, statementGuard_) : statementGuard_;
+  ir::Assert inRange;
+  inRange.condition = ctx().logicalAnd(
+      ctx().compare(ir::CompareKind::Ge, sub.index, ctx().one(), true),
+      ctx().compare(ir::CompareKind::Le, sub.index,
+                    ctx().constant(static_cast<double>(size)), true));
+  if (guard)
+    inRange.condition =
+        ctx().logicalOr(ctx().logicalNot(guard), inRange.condition);
+  inRange.message = "index out of range for '" + sub.what + "' of size " +
+                    std::to_string(size);
+  inRange.loc = sub.where.begin;
+  // The same subscript lowered again (a loop body, an inlined function)
+  // needs one check.
+  std::vector<ir::Assert> &into = whenAsserts_ ? *whenAsserts_ : model_->asserts;
+  for (const ir::Assert &a : into)
+    if (a.condition == inRange.condition && a.message == inRange.message)
+      return;
+  into.push_back(std::move(inRange));
+}
+
+void Flattener::assignAtRunTime(
+    const Value &value, const std::vector<int64_t> &shape,
+    const std::vector<int64_t> &offsets,
+    const std::vector<RunTimeSubscript> &runTime, Value &slot,
+    const std::function<void(ir::ExprRef &, ir::ExprRef)> &write) {
+  // `shape` keeps each run-time axis whole; `value` has them removed.
+  std::vector<bool> chosenAtRunTime(shape.size(), false);
+  for (const RunTimeSubscript &sub : runTime)
+    chosenAtRunTime[sub.axis] = true;
+  std::vector<int64_t> at(shape.size(), 0);
+  for (size_t f = 0; f < offsets.size(); ++f) {
+    // Element f of the selection: its position along each axis.
+    int64_t rest = static_cast<int64_t>(f);
+    for (size_t k = shape.size(); k-- > 0;) {
+      at[k] = rest % shape[k];
+      rest /= shape[k];
+    }
+    ir::ExprRef picked = nullptr;
+    for (const RunTimeSubscript &sub : runTime) {
+      ir::ExprRef here = ctx().compare(
+          ir::CompareKind::Eq, sub.index,
+          ctx().constant(static_cast<double>(at[sub.axis] + 1)), true);
+      picked = picked ? ctx().logicalAnd(picked, here) : here;
+    }
+    size_t v = 0;
+    for (size_t k = 0; k < shape.size(); ++k)
+      if (!chosenAtRunTime[k])
+        v = v * static_cast<size_t>(shape[k]) + static_cast<size_t>(at[k]);
+    ir::ExprRef element = slot.elems[offsets[f]];
+    ir::ExprRef assigned = value.shape.empty() ? value.elems[0] : value.elems[v];
+    write(slot.elems[offsets[f]],
+          element ? ctx().ifThenElse(picked, assigned, element) : nullptr);
+  }
+  for (const RunTimeSubscript &sub : runTime)
+    indexInRange(sub, sub.size);
 }
 
 } // namespace ldae::frontend
