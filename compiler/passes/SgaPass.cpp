@@ -9,6 +9,7 @@
 // structural index reduction chose: where they differ, structure was
 // fooled (cancellation, a singular derivative matrix) and the SGA's count
 // stands in the report.
+#include "passes/Events.h"
 #include "passes/Passes.h"
 #include "passes/Results.h"
 #include "passes/Sga.h"
@@ -176,17 +177,19 @@ bool equationsWithoutUnknownsHold(PassContext &ctx, SgaResult &out) {
   return true;
 }
 
-class SgaPass : public TypedPass<SgaPass, Reads<>, Updates<>,
+class SgaPass : public TypedPass<SgaPass, Reads<EventResult>, Updates<>,
                                  Produces<SgaResult, ir::DaeSystem>> {
 public:
   explicit SgaPass(bool always) : TypedPass(PassId::Sga), always_(always) {}
-  bool runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys);
+  bool runOn(PassContext &ctx, const EventResult &ev, SgaResult &out,
+             ir::DaeSystem &sys);
 
 private:
   bool always_; // the sga and ode methods: no size limit
 };
 
-bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
+bool SgaPass::runOn(PassContext &ctx, const EventResult &ev, SgaResult &out,
+                    ir::DaeSystem &sys) {
   out.input = sgaInput(ctx.model);
   if (out.input.unknowns.empty())
     return equationsWithoutUnknownsHold(ctx, out);
@@ -215,8 +218,16 @@ bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
       return true; // no conflict to name: no verdict (runSga's contract)
     const SgaConstraintExpr &c =
         out.constraints[static_cast<size_t>(out.conflict)];
+    // Relations of the unknowns frozen in one branch at the sampled point
+    // (MSL's NandGate: its transistors' regions) can show the SGA a
+    // conflict no branch has: structure's system runs, and a model that
+    // truly has none stops at its initialization, located. The sga and
+    // ode methods, which integrate the SGA's field, stop here.
+    bool piecewise = !always_ && !ev.roots.empty();
     Diagnostic &d = ctx.diags.report(
-        DiagId::ErrSgaNoSolution, m.equations[c.sources.front()].loc,
+        piecewise ? DiagId::WarnSgaNoSolutionPiecewise
+                  : DiagId::ErrSgaNoSolution,
+        m.equations[c.sources.front()].loc,
         {ir::printLsd(c.expr, &m), describeEquations(ctx, c.sources)});
     // And the equations of the constraints it contradicts (those sharing
     // a variable with it).
@@ -234,7 +245,7 @@ bool SgaPass::runOn(PassContext &ctx, SgaResult &out, ir::DaeSystem &sys) {
         }
     }
     noteEquations(ctx, d, also);
-    return false;
+    return piecewise;
   }
   case SgaReport::Outcome::NotUnique: {
     std::vector<std::string> names = ctx.report.sga->undetermined;
@@ -311,13 +322,15 @@ bool SgaCheckPass::runOn(PassContext &ctx, const SgaResult &sga,
   // Relations of the unknowns choose branches of the equations; the SGA
   // samples its ranks with them frozen, and a badly scaled branch (a slew
   // limiter's 1/Td = 1e4) can make it see a constraint that is not there.
+  // Structure sees every branch at once: its system runs (should it be
+  // singular in a branch, the run stops there, located).
   if (!sys.roots.empty()) {
     Diagnostic &d = ctx.diags.report(
-        DiagId::ErrSgaFooledPiecewise,
+        DiagId::WarnSgaPiecewise,
         eqs.empty() ? ctx.model.loc : ctx.model.equations[eqs.front()].loc,
         {std::to_string(structural), std::to_string(sga.dof)});
     noteEquations(ctx, d, eqs);
-    return false;
+    return true;
   }
   std::string why =
       structural > sga.dof
