@@ -13,6 +13,8 @@
 
 #include "graph/DulmageMendelsohn.h"
 #include "graph/Matching.h"
+#include "ir/Differentiate.h"
+#include "ir/Evaluate.h"
 #include "ir/Query.h"
 #include "numeric/Newton.h"
 #include "numeric/Rank.h"
@@ -39,20 +41,28 @@ struct InitSystem {
   std::vector<int> colOfDerivative; // unknown -> column of y' or -1
 };
 
-/// Evaluates rows `rows` at column values `x` (columns outside `cols` at
-/// their start values).
-Eigen::VectorXd evalRows(const PassContext &s, const InitSystem &is,
-                         const SystemLayout &layout,
-                         const std::vector<int> &rows,
-                         const std::vector<double> &x) {
+/// The start environment with the unknowns read from column values `x`
+/// (kept by reference).
+ir::EvalEnv envAt(const PassContext &s, const InitSystem &is,
+                  const SystemLayout &layout, const std::vector<double> &x) {
   ir::EvalEnv env = s.startEnv();
-  env.variable = [&](ir::VarKey k) {
+  env.variable = [&is, &layout, &x](ir::VarKey k) {
     SlotRead sr = layout.read(k);
     if (sr.unknown < 0)
       return 0.0;
     int c = sr.derivative ? is.colOfDerivative[sr.unknown] : sr.unknown;
     return c >= 0 ? x[c] : 0.0;
   };
+  return env;
+}
+
+/// Evaluates rows `rows` at column values `x` (columns outside `cols` at
+/// their start values).
+Eigen::VectorXd evalRows(const PassContext &s, const InitSystem &is,
+                         const SystemLayout &layout,
+                         const std::vector<int> &rows,
+                         const std::vector<double> &x) {
+  ir::EvalEnv env = envAt(s, is, layout, x);
   Eigen::VectorXd r(rows.size());
   for (size_t i = 0; i < rows.size(); ++i) {
     int row = rows[i];
@@ -273,14 +283,70 @@ bool analyzeInitialization(PassContext &s, const ir::DaeSystem &sys,
     Eigen::VectorXd x = startOf(is, cols), r0;
     Eigen::MatrixXd J;
     f(x, r0);
-    if (numeric::finiteDifferenceJacobian(f, x, r0, J) && J.allFinite()) {
+    // The exact Jacobian (symbolic partials at the start point) where
+    // every entry evaluates: a zero is then a zero and a small entry the
+    // model's own (a 1e-14 F capacitance's der(v) at 1e-14 after the rows
+    // are equilibrated), so the columns can be equilibrated too. Forward
+    // differences give z^2 at z = 0 a slope of 1e-7, above a real
+    // inductance's L/R.
+    bool exact = true;
+    {
+      Eigen::MatrixXd Je = Eigen::MatrixXd::Zero(r0.size(), x.size());
+      ir::Differentiator diff(s.model.ctx());
+      std::vector<double> xs(x.data(), x.data() + x.size());
+      ir::EvalEnv env = envAt(s, is, layout, xs);
+      for (int r = 0; exact && r < is.g.numRows(); ++r) {
+        if (is.fixedUnknown[r] >= 0) {
+          Je(r, is.fixedUnknown[r]) = 1;
+          continue;
+        }
+        for (ir::VarKey k : variablesOf(is.expr[r])) {
+          SlotRead sr = layout.read(k);
+          if (sr.unknown < 0)
+            continue;
+          int c = sr.derivative ? is.colOfDerivative[sr.unknown] : sr.unknown;
+          if (c < 0)
+            continue;
+          ir::ExprRef d = diff.partial(is.expr[r], k);
+          if (d->isConstant(0))
+            continue;
+          auto v = ir::evaluate(d, env);
+          if (!v || !std::isfinite(*v)) {
+            exact = false;
+            break;
+          }
+          Je(r, c) += *v;
+        }
+      }
+      if (exact)
+        J = std::move(Je);
+    }
+    if ((exact || numeric::finiteDifferenceJacobian(f, x, r0, J)) &&
+        J.allFinite()) {
       // Each row equilibrated (the rank is the same): a row divided by an
       // inductance (1/L = 2e4) beside rows of an off diode's conductance
       // (1e-3) must not make those look like round-off of the rank
       // tolerance, relative to the largest entry (MSL's Rectifier).
-      for (Eigen::Index r = 0; r < J.rows(); ++r)
-        if (double big = J.row(r).cwiseAbs().maxCoeff(); big > 0)
-          J.row(r) /= big;
+      auto equilibrateRows = [&J] {
+        for (Eigen::Index r = 0; r < J.rows(); ++r)
+          if (double big = J.row(r).cwiseAbs().maxCoeff(); big > 0)
+            J.row(r) /= big;
+      };
+      equilibrateRows();
+      // Then each column to its largest entry in the model's constraints,
+      // and the rows again (the fixed rows stay unit rows, the others keep
+      // their largest entry 1): the rank of D1 J D2 is that of J. An
+      // inductance (L = 2e-6 beside R = 10: der(i) at 2e-7) and an off
+      // resistance (vAK/Roff at 1e-6) multiplied into a pivot of 2e-13,
+      // below the tolerance though the fixed current is independent (MSL's
+      // ThyristorBehaviourTest, SimpleTriacCircuit). Only the exact
+      // Jacobian's columns: a difference quotient's error scaled up would
+      // be taken for the model's.
+      for (Eigen::Index c = 0; exact && firstFixed > 0 && c < J.cols(); ++c)
+        if (double big = J.col(c).head(firstFixed).cwiseAbs().maxCoeff();
+            big > 0)
+          J.col(c) /= big;
+      equilibrateRows();
       // Add the fixed rows one by one after the residuals.
       Eigen::MatrixXd base = J.topRows(firstFixed);
       auto rankOf = [](const Eigen::MatrixXd &A) {

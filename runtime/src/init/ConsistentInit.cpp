@@ -367,8 +367,17 @@ public:
         if (scaled(i) > kTol)
           res.badRows.push_back(i);
       }
-    VectorXd x = numeric::minimumNormSolution(A, b, 1e-12);
-    VectorXd lin = (A * x - b).cwiseAbs().cwiseQuotient(rowScale);
+    // Solved with the rows in the same units: the rank threshold is
+    // relative to the largest singular value, and a thyristor's off law
+    // (i = vAK/Roff: 1e-6 per volt) beside its control lag (2.5/1.87e-6 =
+    // 1.3e6 per volt) fell below it, the equation left unsolved and no
+    // consistent point found for an index-1 set (MSL's
+    // ThyristorBehaviourTest after its gate pulse). Row scaling leaves the
+    // solutions of a consistent system as they are.
+    MatrixXd As = rowScale.cwiseInverse().asDiagonal() * A;
+    VectorXd bs = b.cwiseQuotient(rowScale);
+    VectorXd x = numeric::minimumNormSolution(As, bs, 1e-12);
+    VectorXd lin = (As * x - bs).cwiseAbs();
     if (lin.maxCoeff() > 1e-8 * std::max(1.0, scaled.maxCoeff())) {
       res.solvable = false;
       res.badRows.clear();
