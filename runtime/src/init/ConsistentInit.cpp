@@ -376,7 +376,24 @@ public:
     // solutions of a consistent system as they are.
     MatrixXd As = rowScale.cwiseInverse().asDiagonal() * A;
     VectorXd bs = b.cwiseQuotient(rowScale);
-    VectorXd x = numeric::minimumNormSolution(As, bs, 1e-12);
+    // The derivative columns (du' and the levels' z_j, from k on) are
+    // solved in their own units too, each divided by its largest entry. A
+    // derivative's coefficient is a time constant (C in i = C*der(v), in
+    // seconds per unit of the row), 1e-13 for a small capacitance against
+    // 1 for the current: the column fell below the rank threshold, the
+    // row it alone can meet was left unsolved and no consistent point
+    // found (MSL's OpAmpDetailed, Cin = 1.4e-12 F;
+    // tests/lang/init/tiny_capacitance.lsd). Column scaling changes only
+    // how the minimum norm weighs the derivatives, which have no start
+    // value to stay near; the directions' columns (B's, up to k) keep
+    // their nominal weights, so the step in y stays the smallest one along
+    // T.
+    VectorXd cs = VectorXd::Ones(cols);
+    for (int c = k; c < cols; ++c)
+      if (double big = As.col(c).cwiseAbs().maxCoeff(); big > 0)
+        cs(c) = big;
+    MatrixXd Ac = As * cs.cwiseInverse().asDiagonal();
+    VectorXd x = numeric::minimumNormSolution(Ac, bs, 1e-12).cwiseQuotient(cs);
     VectorXd lin = (As * x - bs).cwiseAbs();
     if (lin.maxCoeff() > 1e-8 * std::max(1.0, scaled.maxCoeff())) {
       res.solvable = false;
