@@ -185,7 +185,7 @@ void EventLoop::noteJump(double t, const std::vector<double> &before,
 }
 
 bool EventLoop::observed(double t, const std::vector<double> &y,
-                         const std::vector<double> &yp) {
+                         const std::vector<double> &yp, const double *against) {
   // A delayed expression that moved shows d later: the run restarts and
   // aims at that instant (DelayLine.h) even when nothing reads it now.
   if (!delays_.empty()) {
@@ -193,24 +193,29 @@ bool EventLoop::observed(double t, const std::vector<double> &y,
     if (!te.empty() && delays_.moved(te.data()))
       return true;
   }
-  // The discrete values before this update are still the pre() values.
-  double *cur = ev_.discrete();
-  std::vector<double> now(cur, cur + nd_);
+  return reads(t, y, yp, ev_.discrete(), against, true);
+}
+
+bool EventLoop::reads(double t, const std::vector<double> &y,
+                      const std::vector<double> &yp, double *slots,
+                      const double *against, bool outputs) {
+  std::vector<double> now(slots, slots + nd_);
   auto evaluate = [&](std::vector<double> &into) {
-    into.assign(size_t(ev_.n()) * m_.n_state_sets + m_.n_outputs, 0.0);
+    int no = outputs ? m_.n_outputs : 0;
+    into.assign(size_t(ev_.n()) * m_.n_state_sets + no, 0.0);
     int rc = 0;
     for (int k = 0; k < m_.n_state_sets; ++k)
       rc |= ev_.residual(k, t, y.data(), yp.data(), into.data() + k * ev_.n());
-    if (m_.n_outputs > 0 && m_.outputs)
+    if (no > 0 && m_.outputs)
       rc |= m_.outputs(t, y.data(), yp.data(), ev_.params(),
                        into.data() + ev_.n() * m_.n_state_sets);
     return rc == 0;
   };
   std::vector<double> after, before;
   bool ok = evaluate(after);
-  std::copy(ev_.pre(), ev_.pre() + nd_, cur);
+  std::copy(against, against + nd_, slots);
   ok = ok && evaluate(before);
-  std::copy(now.begin(), now.end(), cur);
+  std::copy(now.begin(), now.end(), slots);
   if (!ok)
     return true;
   for (size_t i = 0; i < after.size(); ++i)
@@ -219,21 +224,30 @@ bool EventLoop::observed(double t, const std::vector<double> &y,
   return false;
 }
 
-bool EventLoop::cyclesThroughRelations(
-    const std::vector<std::vector<double>> &contradicted,
-    const std::vector<bool> &changed) const {
+bool EventLoop::contradictedNow(
+    const std::vector<std::vector<double>> &contradicted, size_t from) const {
   const double *cur = ev_.discrete();
+  return std::any_of(contradicted.begin() + from, contradicted.end(),
+                     [&](const std::vector<double> &values) {
+                       return std::equal(
+                           values.begin(), values.end(), cur,
+                           [](double a, double b) { return !differs(a, b); });
+                     });
+}
+
+bool EventLoop::reproduces(double t, const std::vector<double> &y,
+                           const std::vector<double> &yp) {
+  if (!update(t, y.data(), yp.data()))
+    return false;
+  return std::equal(out_.begin(), out_.begin() + nd_, ev_.discrete(),
+                    [](double a, double b) { return !differs(a, b); });
+}
+
+bool EventLoop::onlyRelations(const std::vector<bool> &changed) const {
   bool relations = m_.discrete_kind != nullptr;
   for (int k = 0; relations && k < nd_; ++k)
     relations = !changed[k] || m_.discrete_kind[k] == LDAE_DISCRETE_RELATION;
-  return relations &&
-         std::any_of(contradicted.begin(), contradicted.end(),
-                     [&](const std::vector<double> &values) {
-                       for (int k = 0; k < nd_; ++k)
-                         if (differs(values[k], cur[k]))
-                           return false;
-                       return true;
-                     });
+  return relations;
 }
 
 EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
@@ -258,9 +272,41 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
   // The discrete values each solved point changed: coming back to one of
   // them is a cycle (RelationSearch.h), searched once.
   std::vector<std::vector<double>> contradicted;
+  // Those since pre() last moved: a cycle among them is one at fixed
+  // pre(), of the mixed system itself.
+  size_t sincePre = 0;
   std::vector<double> solvedWith;
   bool searched = false;
+  // The discrete values (t, y, y') was last made consistent with, or that
+  // it reads no differently: pre() at the first round, then the values
+  // of the round before.
+  std::vector<double> last(ev_.pre(), ev_.pre() + nd_);
+  // Whether pre() has not moved since the point was last solved: the
+  // mixed system is being solved at fixed pre() (below).
+  bool atFixedPre = false;
+  // pre(v) := v. An equation that reads pre() is another equation now
+  // (a friction element's `locked` reads pre(mode)): the point is solved
+  // again, its reinit targets `held`, before the next update reads it, and
+  // so the integrator restarts from a point consistent with pre() = v.
+  auto advancePre = [&](const std::vector<int> &held) {
+    std::vector<double> old(ev_.pre(), ev_.pre() + nd_);
+    std::copy(cur, cur + nd_, ev_.pre());
+    atFixedPre = false;
+    sincePre = contradicted.size();
+    if (!reads(t, y, yp, ev_.pre(), old.data(), false))
+      return true;
+    std::string failure;
+    if (!reinit(t, y, yp, held, failure)) {
+      message_ = failure;
+      return false;
+    }
+    visible = true;
+    solvedWith.assign(cur, cur + nd_);
+    return true;
+  };
   for (int iter = 0;; ++iter) {
+    if (iter > 0)
+      last.assign(cur, cur + nd_);
     if (!update(t, y.data(), yp.data())) {
       message_ = fmt::format("the event update could not be evaluated at t "
                              "= {:.10g}",
@@ -284,14 +330,24 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
     bool any = false;
     for (int k = 0; k < nd_; ++k) {
       changed[k] = differs(next[k], cur[k]) ||
-                   (delayed(k) && differs(next[k], ev_.pre()[k]));
+                   (iter == 0 && delayed(k) && differs(next[k], ev_.pre()[k]));
       any |= changed[k];
       if (changed[k])
         changedAny[k] = true;
       cur[k] = next[k];
     }
-    if (!any && held.empty())
-      break;
+    if (!any && held.empty()) {
+      // The point solved with these values gives them back at these pre()
+      // values: the mixed system is solved. Only now pre(v) := v, and the
+      // iteration goes on until that moves nothing (MLS 8.6).
+      if (!atFixedPre ||
+          std::equal(cur, cur + nd_, ev_.pre(),
+                     [](double a, double b) { return !differs(a, b); }))
+        break;
+      if (!advancePre({}))
+        return EventOutcome::Failed;
+      continue;
+    }
     if (!solvedWith.empty())
       contradicted.push_back(std::move(solvedWith));
     solvedWith.clear();
@@ -306,23 +362,38 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
     // model re-initializes (and iterates on).
     if (modeChanged())
       break;
-    // A change that neither a residual nor an output reads (a relation
-    // that only guards a when-clause, crossing back) needs no restart and
-    // shows in no row.
-    if (held.empty() && !searched && cyclesThroughRelations(contradicted, changed)) {
+    // A cycle through relation values, or one at fixed pre() through
+    // other values too: the mixed system has no fixed point this
+    // iteration reaches; its Boolean unknowns are searched
+    // (RelationSearch.h), once, and the iteration goes on from the
+    // consistent combination at the same pre() values. A change that
+    // neither a residual nor an output reads (a relation that only guards
+    // a when-clause, crossing back) needs no restart and shows in no row.
+    const bool relationsOnly = onlyRelations(changed);
+    if (held.empty() && !searched && m_.discrete_kind &&
+        (relationsOnly
+             ? contradictedNow(contradicted, 0)
+             : atFixedPre && contradictedNow(contradicted, sincePre))) {
       searched = true;
       std::vector<int> cycling;
       for (int k = 0; k < nd_; ++k)
         if (changed[k])
           cycling.push_back(k);
-      if (!chooseConsistentRelations(ev_, set_, t, y, yp, cycling, reinit,
-                                     message_))
+      if (relationsOnly ? !chooseConsistentRelations(ev_, set_, t, y, yp,
+                                                     cycling, reinit, message_)
+                        : !chooseConsistentValues(ev_, set_, t, y, yp, cycling,
+                                                  last, reinit, message_))
         return EventOutcome::Failed;
       for (int k = 0; k < nd_; ++k)
         if (differs(cur[k], entry[k]))
           changedAny[k] = true;
       visible = true;
-    } else if (!held.empty() || observed(t, y, yp)) {
+      atFixedPre = true;
+      continue;
+    } else if (!held.empty() || observed(t, y, yp, last.data())) {
+      // Whether the discrete equations give these values back at the
+      // point they were evaluated on (below).
+      bool settledHere = held.empty() && reproduces(t, y, yp);
       std::string failure;
       if (!reinit(t, y, yp, held, failure)) {
         message_ = failure;
@@ -330,8 +401,32 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
       }
       visible = true;
       solvedWith.assign(cur, cur + nd_);
+      // The values were evaluated on a point solved with the old ones:
+      // they are evaluated again on the new point at the same pre()
+      // values until they give themselves back, and only that fixed
+      // point moves pre() (MLS 8.6). Moving pre() after each round ran a
+      // state machine on values of a point not yet solved: MSL's
+      // Rotational Friction clutch reaching w_rel = 0 backward went to
+      // Stuck, then, with pre(mode) = Stuck, read the backward sliding
+      // point's sa as a start forward, and from there (each sliding
+      // point's sa starting the other way) went Forward, Backward, ... at
+      // one instant until the chattering check; at fixed pre() that is a
+      // cycle, and the search above finds `locked`.
+      // A fired reinit's value is taken once: evaluated again on its own
+      // point, reinit(v, -e*v) would reverse v twice. Values that the
+      // update does not give back even at the point they were evaluated
+      // on loop through the discrete equations themselves (MSL's Digital
+      // Pulse: `sampling = np < 3` guards the when-clause that counts
+      // np): no value is a fixed point there at fixed pre(), and such a
+      // loop goes on with pre(v) := v, as Dymola's event iteration
+      // breaks it.
+      if (settledHere) {
+        atFixedPre = true;
+        continue;
+      }
     }
-    std::copy(cur, cur + nd_, ev_.pre());
+    if (!advancePre(held))
+      return EventOutcome::Failed;
   }
   if (!visible && terminated.empty() && !modeChanged())
     return EventOutcome::Unchanged;

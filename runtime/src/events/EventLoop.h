@@ -116,14 +116,27 @@ private:
   EventOutcome iterate(double t, std::vector<double> &y,
                        std::vector<double> &yp, const Reinitialize &reinit);
   /// Whether the residuals or the outputs at (t, y, y') read the discrete
-  /// values the last update changed (current against pre()).
+  /// values the last update changed (current against `against`, the values
+  /// of the round before).
   bool observed(double t, const std::vector<double> &y,
-                const std::vector<double> &yp);
-  /// Whether the current discrete values are ones a solved point of this
-  /// iteration contradicted, and only relations changed on the way.
-  bool cyclesThroughRelations(
-      const std::vector<std::vector<double>> &contradicted,
-      const std::vector<bool> &changed) const;
+                const std::vector<double> &yp, const double *against);
+  /// Whether the residuals (and the outputs, with `outputs`) at (t, y, y')
+  /// change when the nd_ values at `slots` (the discrete values or their
+  /// pre() values) are replaced by `against`.
+  bool reads(double t, const std::vector<double> &y,
+             const std::vector<double> &yp, double *slots,
+             const double *against, bool outputs);
+  /// Whether one of `contradicted` from index `from` on (each a solved
+  /// point's discrete values, which the update at that point changed)
+  /// equals the current values: the iteration came back to it.
+  bool contradictedNow(const std::vector<std::vector<double>> &contradicted,
+                       size_t from) const;
+  /// Whether the update at (t, y, y') gives the current discrete values
+  /// back.
+  bool reproduces(double t, const std::vector<double> &y,
+                  const std::vector<double> &yp);
+  /// Whether only relations are among the `changed` values.
+  bool onlyRelations(const std::vector<bool> &changed) const;
   void settle(int kind, double t, const double *y, const double *yp);
   void setKind(int kind, double v);
   bool sampleInstant(int s, double t, const double *y, const double *yp) const;

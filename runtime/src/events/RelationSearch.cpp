@@ -91,6 +91,61 @@ std::vector<int> coupledRelations(ModelEval &ev, int set, double t,
   return which;
 }
 
+/// Whether discrete value k can be an unknown of a search: a relation, or
+/// a variable at 0 or 1 (a Boolean; an Integer there is tried at 0 and 1
+/// only, and a combination stands only if the update gives it back).
+bool zeroOrOne(const ldae_model &m, const double *d, int k) {
+  return m.discrete_kind[k] == LDAE_DISCRETE_RELATION ||
+         (m.discrete_kind[k] == LDAE_DISCRETE_VARIABLE &&
+          (d[k] == 0 || d[k] == 1));
+}
+
+/// A cycle through other discrete values too: the 0/1 values among the
+/// cycling ones that change a residual row, and every 0/1 value that
+/// changes one of those rows, probed at both states of the cycle (the
+/// current values and `other`), as coupledRelations does. A cycling value
+/// that no residual reads (a friction element's `mode`) is no unknown:
+/// the update gives it from the others.
+std::vector<int> coupledValues(ModelEval &ev, int set, double t,
+                               const std::vector<double> &y,
+                               const std::vector<double> &yp,
+                               const std::vector<int> &cycling,
+                               const std::vector<double> &other) {
+  const ldae_model &m = ev.model();
+  double *d = ev.discrete();
+  const std::vector<double> now(d, d + m.n_discrete);
+  std::vector<char> coupled(m.n_discrete, 0);
+  for (const std::vector<double> *state : {&now, &other}) {
+    std::copy(state->begin(), state->end(), d);
+    FlipProbe probe(ev, set, t, y, yp);
+    if (!probe.ok())
+      continue;
+    std::vector<char> cycleRows(ev.n(), 0);
+    for (int k : cycling) {
+      if (!zeroOrOne(m, d, k))
+        continue;
+      std::vector<char> rows = probe.rowsOf(k);
+      for (size_t i = 0; i < rows.size(); ++i) {
+        cycleRows[i] |= rows[i];
+        coupled[k] |= rows[i];
+      }
+    }
+    for (int k = 0; k < m.n_discrete; ++k) {
+      if (coupled[k] || !zeroOrOne(m, d, k))
+        continue;
+      std::vector<char> rows = probe.rowsOf(k);
+      for (size_t i = 0; i < rows.size() && !coupled[k]; ++i)
+        coupled[k] = rows[i] && cycleRows[i];
+    }
+  }
+  std::copy(now.begin(), now.end(), d);
+  std::vector<int> which;
+  for (int k = 0; k < m.n_discrete; ++k)
+    if (coupled[k])
+      which.push_back(k);
+  return which;
+}
+
 std::string quotedNames(const ModelEval &ev, const std::vector<int> &which) {
   std::string names;
   for (size_t j = 0; j < which.size(); ++j)
@@ -110,22 +165,21 @@ std::string combination(const ModelEval &ev, const std::vector<int> &which,
 
 } // namespace
 
-bool chooseConsistentRelations(ModelEval &ev, int set, double t,
-                               std::vector<double> &y, std::vector<double> &yp,
-                               const std::vector<int> &cycling,
-                               const Reinitialize &reinit,
-                               std::string &failure) {
+namespace {
+
+/// Solves the point for each combination of 0/1 values of `coupled` and
+/// keeps the one whose point gives them back (see RelationSearch.h).
+bool searchCombinations(ModelEval &ev, double t, std::vector<double> &y,
+                        std::vector<double> &yp,
+                        const std::vector<int> &coupled,
+                        const std::string &cycle, const char *what,
+                        const Reinitialize &reinit, std::string &failure) {
   const ldae_model &m = ev.model();
   const int nd = m.n_discrete;
-  std::vector<int> coupled = coupledRelations(ev, set, t, y, yp, cycling);
-  const std::string cycle = fmt::format(
-      "the event iteration at t = {:.10g} keeps coming back to the values of "
-      "{}, each point solved contradicting the relations it was solved with",
-      t, quotedNames(ev, cycling));
   if (coupled.size() > kMaxCoupledRelations) {
-    failure = fmt::format("{}; {} relations are coupled to them, more than "
+    failure = fmt::format("{}; {} {} are coupled to them, more than "
                           "the {} whose combinations ldaec tries",
-                          cycle, coupled.size(), kMaxCoupledRelations);
+                          cycle, coupled.size(), what, kMaxCoupledRelations);
     return false;
   }
   double *d = ev.discrete();
@@ -176,6 +230,42 @@ bool chooseConsistentRelations(ModelEval &ev, int set, double t,
   }
   setCombination(consistent[0]);
   return reinit(t, y, yp, {}, failure);
+}
+
+} // namespace
+
+bool chooseConsistentRelations(ModelEval &ev, int set, double t,
+                               std::vector<double> &y, std::vector<double> &yp,
+                               const std::vector<int> &cycling,
+                               const Reinitialize &reinit,
+                               std::string &failure) {
+  const std::string cycle = fmt::format(
+      "the event iteration at t = {:.10g} keeps coming back to the values of "
+      "{}, each point solved contradicting the relations it was solved with",
+      t, quotedNames(ev, cycling));
+  return searchCombinations(ev, t, y, yp,
+                            coupledRelations(ev, set, t, y, yp, cycling), cycle,
+                            "relations", reinit, failure);
+}
+
+bool chooseConsistentValues(ModelEval &ev, int set, double t,
+                            std::vector<double> &y, std::vector<double> &yp,
+                            const std::vector<int> &cycling,
+                            const std::vector<double> &other,
+                            const Reinitialize &reinit, std::string &failure) {
+  const std::string cycle = fmt::format(
+      "the event iteration at t = {:.10g} keeps coming back to the values of "
+      "{}, each point solved contradicting the values it was solved with",
+      t, quotedNames(ev, cycling));
+  std::vector<int> coupled = coupledValues(ev, set, t, y, yp, cycling, other);
+  if (coupled.empty()) {
+    failure = fmt::format("{}; none of them is a Boolean that an equation of "
+                          "the point reads",
+                          cycle);
+    return false;
+  }
+  return searchCombinations(ev, t, y, yp, coupled, cycle, "Boolean values",
+                            reinit, failure);
 }
 
 } // namespace ldae::runtime

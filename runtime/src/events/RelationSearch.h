@@ -31,6 +31,21 @@ bool chooseConsistentRelations(ModelEval &ev, int set, double t,
                                const Reinitialize &reinit,
                                std::string &failure);
 
+/// The same search for a cycle that runs through discrete variables too,
+/// at fixed pre() values: a friction element leaving w_rel = 0 (MSL's
+/// PartialFriction) whose startForward, solved, gives a point that says
+/// startBackward, and back, while only `locked` is consistent. Its unknowns
+/// are the Booleans and relations the residual rows of the cycle read
+/// (those of the cycling values, probed at the current values and at
+/// `other`, the cycle's other state), as OpenModelica's mixed-system
+/// search takes the Boolean unknowns of the system; a combination stands
+/// when the update at its solved point gives all of them back.
+bool chooseConsistentValues(ModelEval &ev, int set, double t,
+                            std::vector<double> &y, std::vector<double> &yp,
+                            const std::vector<int> &cycling,
+                            const std::vector<double> &other,
+                            const Reinitialize &reinit, std::string &failure);
+
 /// Coupled relations beyond this many (2^n solves) are not searched.
 inline constexpr size_t kMaxCoupledRelations = 10;
 
