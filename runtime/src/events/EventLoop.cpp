@@ -284,6 +284,8 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
   // Whether pre() has not moved since the point was last solved: the
   // mixed system is being solved at fixed pre() (below).
   bool atFixedPre = false;
+  // Whether the rounds still solve at fixed pre() (below).
+  bool fixedPre = true;
   // pre(v) := v. An equation that reads pre() is another equation now
   // (a friction element's `locked` reads pre(mode)): the point is solved
   // again, its reinit targets `held`, before the next update reads it, and
@@ -379,11 +381,27 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
       for (int k = 0; k < nd_; ++k)
         if (changed[k])
           cycling.push_back(k);
-      if (relationsOnly ? !chooseConsistentRelations(ev_, set_, t, y, yp,
-                                                     cycling, reinit, message_)
-                        : !chooseConsistentValues(ev_, set_, t, y, yp, cycling,
-                                                  last, reinit, message_))
+      if (relationsOnly && !chooseConsistentRelations(
+                               ev_, set_, t, y, yp, cycling, reinit, message_))
         return EventOutcome::Failed;
+      std::string failure;
+      if (!relationsOnly &&
+          !chooseConsistentValues(ev_, set_, t, y, yp, cycling, last, reinit,
+                                  failure)) {
+        // No combination holds at these pre() values (or several do): a
+        // friction element whose driving torque is its largest sticking
+        // torque to round-off (MSL's LossyGearDemo2 at t = 0.0636, the
+        // bearing's locked point saying "start forward", the forward
+        // point, held by the locked gear, giving sa = tau0_max exactly).
+        // The iteration goes on as Dymola's does, pre(v) := v after each
+        // round (the search left the point solved with these values); it
+        // reaches Forward there, as the reference does.
+        fixedPre = false;
+        visible = true;
+        if (!advancePre({}))
+          return EventOutcome::Failed;
+        continue;
+      }
       for (int k = 0; k < nd_; ++k)
         if (differs(cur[k], entry[k]))
           changedAny[k] = true;
@@ -420,7 +438,7 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
       // np): no value is a fixed point there at fixed pre(), and such a
       // loop goes on with pre(v) := v, as Dymola's event iteration
       // breaks it.
-      if (settledHere) {
+      if (settledHere && fixedPre) {
         atFixedPre = true;
         continue;
       }
