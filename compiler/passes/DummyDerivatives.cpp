@@ -125,6 +125,11 @@ private:
     return static_cast<int>(
         s_.model.variables[s_.unknowns[j]].stateSelect);
   }
+  /// A maximum matching of `lv` extending `first`, taking columns in
+  /// tiers of dummyRank: the most wanted dummies as many as they can, then
+  /// the next tier only to fill the rows left.
+  graph::Matching completeByRank(const Level &lv, int l,
+                                 const graph::Matching &first) const;
   /// The symbolic Jacobian entry (row r, column c) of `lv`, or nullptr.
   ir::ExprRef entry(const Level &lv, int r, int c) const;
   bool hasEntry(const Level &lv, int r, int c) const;
@@ -371,6 +376,40 @@ bool Selector::fixDense(Level &lv, int levelIndex, graph::Matching &m,
   return ok;
 }
 
+// A row's candidates are ordered by rank, but a matching completed row by
+// row lets a row take its first choice from a row that had no other: a
+// mass joined to a spring-damper with relative states (MSL's HeatLosses:
+// s_rel prefer, the stop mass's s always, the other mass's s default, one
+// position constraint through the flanges) gave the stop mass's s as the
+// dummy, so its reinit had no state to act on. Augmenting paths never
+// unmatch a column, so growing the allowed columns tier by tier keeps
+// every column of a lower tier already taken: as many of the most wanted
+// dummies as any matching has, then the next tier (the greedy algorithm of
+// the transversal matroid, over tiers).
+graph::Matching Selector::completeByRank(const Level &lv, int l,
+                                         const graph::Matching &first) const {
+  std::vector<int> rank(lv.g.numCols);
+  for (int c = 0; c < lv.g.numCols; ++c) {
+    int j = lv.colVar[c];
+    rank[c] = dummyRank(j, s_.highest[j] - l);
+  }
+  std::vector<int> tiers(rank);
+  std::sort(tiers.begin(), tiers.end());
+  tiers.erase(std::unique(tiers.begin(), tiers.end()), tiers.end());
+  graph::Matching m = first;
+  std::vector<char> allowed(lv.g.numCols, 0);
+  for (int c = 0; c < lv.g.numCols; ++c)
+    allowed[c] = first.colMate[c] >= 0;
+  for (int tier : tiers) {
+    if (m.size == lv.g.numRows())
+      break;
+    for (int c = 0; c < lv.g.numCols; ++c)
+      allowed[c] = allowed[c] || rank[c] == tier;
+    m = graph::maximumMatching(lv.g, allowed, &m);
+  }
+  return m;
+}
+
 std::vector<std::vector<int>>
 Selector::choose(const std::vector<std::pair<int, int>> &topOverride,
                  bool atStart) {
@@ -421,7 +460,7 @@ Selector::choose(const std::vector<std::pair<int, int>> &topOverride,
                   " does not carry to level " + std::to_string(l);
         return {};
       }
-    graph::Matching m = graph::maximumMatching(lv.g, {}, &first);
+    graph::Matching m = completeByRank(lv, l, first);
     if (m.size < lv.g.numRows()) {
       failure = "no nonsingular choice of dummy derivatives at level " +
                 std::to_string(l);
