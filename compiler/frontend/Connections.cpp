@@ -79,9 +79,23 @@ void Flattener::addConnect(const ast::Equation &eq, const Scope &scope,
     return;
   }
   // `connect(p, r.p)` inside a model: `p` is the model's own connector,
-  // seen from the outside of the connection set.
-  bool aOutside = eq.lhs->parts.size() == 1;
-  bool bOutside = eq.rhs->parts.size() == 1;
+  // seen from the outside of the connection set, and so is everything
+  // inside it (MLS 9.1.2): Polyphase's `connect(sineVoltage.n, plug_n.pin)`
+  // names the pins of the model's own plug. Counted as inside, the plug's
+  // pins joined the set of the enclosing model's connect into one flow
+  // sum, an equation short per pin.
+  auto isOutside = [&](const ast::Expr &ref) {
+    if (ref.parts.size() == 1)
+      return true;
+    InstNode *first = ref.global || !scope.inst
+                          ? nullptr
+                          : scope.inst->findMember(ref.parts.front().name);
+    if (first && first->isArray())
+      first = first->elements.empty() ? nullptr : first->elements.front().get();
+    return first && first->isConnector;
+  };
+  bool aOutside = isOutside(*eq.lhs);
+  bool bOutside = isOutside(*eq.rhs);
   for (size_t i = 0; i < a->targets.size(); ++i) {
     for (const auto &[t, ref] : {std::pair{a->targets[i], eq.lhs.get()},
                                  std::pair{b->targets[i], eq.rhs.get()}})
