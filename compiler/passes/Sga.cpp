@@ -119,9 +119,9 @@ private:
     return sampler_->evaluations() > sampler_->evaluationBudget;
   }
   std::string budgetReason() const {
-    return fmt::format("its constraints grew too large to evaluate: the "
-                       "projections reached their budget of {:.2g} "
-                       "expression nodes ({} equations)",
+    return fmt::format("its constraints grew too large to evaluate: "
+                       "differentiating and projecting them reached their "
+                       "budget of {:.2g} expression nodes ({} equations)",
                        sampler_->evaluationBudget, mr_.equations.size());
   }
   /// Remainders that held on the manifold when found: constraints the
@@ -440,15 +440,20 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
   // earlier equation that a later batch happens to contradict.
   bool inOrder = true;
   std::function<void(size_t, size_t)> addChunk = [&](size_t lo, size_t hi) {
-    if (!inOrder)
+    if (!inOrder || overBudget())
       return;
     if (hi - lo < 2) {
       inOrder = hi == lo;
       return;
     }
     const size_t ncons = out_.constraints.size(), nrows = out_.rows.size();
-    for (size_t k = lo; k < hi; ++k)
+    for (size_t k = lo; k < hi && !overBudget(); ++k)
       addConstraint(rows[fresh[k]].rem, rows[fresh[k]].sources);
+    if (overBudget()) {
+      truncateConstraints(ncons);
+      out_.rows.resize(nrows);
+      return;
+    }
     std::vector<Point> trial;
     if (samplePoints(trial, /*draw=*/false) &&
         constraintRank(trial[0]) == static_cast<int>(out_.constraints.size())) {
@@ -470,6 +475,10 @@ bool Sga::step(std::vector<Point> &pts, bool &grew) {
   for (int i : candidates) {
     if (batched.count(i))
       continue;
+    if (overBudget()) {
+      undecided_ = true;
+      return false;
+    }
     const double sc = scaleOf(i);
     const SgaRow own = out_.rows[i]; // a copy: rows grow below
     if (skipped(i))
