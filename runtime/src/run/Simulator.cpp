@@ -840,6 +840,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       return done(StageEnd::Done);
     }
   int tinySteps = 0; // consecutive steps at round-off level
+  double lastH = 0;  // the last step's size
   long stepsSinceOutput = 0;
   std::vector<double> yAt(n), ypAt(n), cond;
   // The grid rows up to `tEnd` (where the solution is yEnd, ypEnd), from
@@ -906,6 +907,13 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         ypc(integrator.yp(), integrator.yp() + n);
     const double h0 = integrator.lastStep();
     const int *differential = ev.set(integrator.set()).is_differential;
+    // Held explicitly: with none held, the re-initialization's nearest-point
+    // fallback moves the states back to the fold, a consistent point of
+    // the old branch, and the other branch is never tried.
+    std::vector<int> statesHeld;
+    for (int i = 0; i < n; ++i)
+      if (differential[i])
+        statesHeld.push_back(i);
     for (double h : {1e-3 * h0, 1e-2 * h0, 0.1 * h0, h0, 10 * h0}) {
       const double tt =
           std::min(tc + std::max(h, 1e-12 * (1 + std::fabs(tc))), s_.stop);
@@ -921,7 +929,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       // hysteresis is no answer.
       std::vector<double> yt = predicted, ypt = ypc;
       std::string why;
-      if (restartAfterEvent(ev, integrator, tt, yt, ypt, {}, why, nullptr)) {
+      if (restartAfterEvent(ev, integrator, tt, yt, ypt, statesHeld, why, nullptr)) {
         if (!jumpedFar(predicted, yt))
           continue;
       } else {
@@ -930,7 +938,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         for (int i = 0; i < n; ++i)
           if (!differential[i])
             yt[i] = -yt[i];
-        if (!restartAfterEvent(ev, integrator, tt, yt, ypt, {}, why, nullptr) ||
+        if (!restartAfterEvent(ev, integrator, tt, yt, ypt, statesHeld, why, nullptr) ||
             !jumpedFar(predicted, yt))
           continue;
       }
@@ -957,10 +965,15 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   };
   while (true) {
     StepStatus st = integrator.step(t);
-    if (st.ok() && integrator.lastStep() <= 1e4 * 2.2e-16 * std::fabs(t))
+    // A step growing from a tiny first one after a restart (IDA's h0 =
+    // 0.5 / ||y'||, then doubling) is no collapse: only tiny steps that do
+    // not grow count.
+    const double h = integrator.lastStep();
+    if (st.ok() && h <= 1e4 * 2.2e-16 * std::fabs(t) && !(h > 1.5 * lastH))
       ++tinySteps;
     else
       tinySteps = 0;
+    lastH = h;
     if (tinySteps > 20)
       st = StepStatus::failed(FailureKind::StepCollapsed, "step size collapse");
     if (st.ok() && ++stepsSinceOutput > kMaxStepsPerOutput)
