@@ -12,6 +12,15 @@ namespace ldae::ir {
 
 namespace {
 
+/// Whether `e` has an if-expression in it (a piecewise derivative).
+bool readsIf(ExprRef e) {
+  bool found = false;
+  postOrder(std::span<const ExprRef>(&e, 1),
+            [&](ExprRef) { return found; },
+            [&](ExprRef x) { found = found || x->kind() == ExprKind::If; });
+  return found;
+}
+
 /// d(e) given the derivatives `d(op)` of e's operands (already computed).
 /// Zero derivatives are tested structurally before multiplying, so a
 /// product never carries `0 * f'(x)` for a partial f (which the simplifier
@@ -138,8 +147,21 @@ template <typename D> ExprRef chainRule(ExprContext &ctx, ExprRef e, D &&d) {
     case FuncKind::Log10:
       return isZero(da) ? ctx.zero()
                         : ctx.div(da, ctx.mul(a, ctx.constant(std::log(10.0))));
-    case FuncKind::Sqrt: // 1 / (2 sqrt(a))
-      return isZero(da) ? ctx.zero() : ctx.div(da, ctx.mul(ctx.constant(2), e));
+    case FuncKind::Sqrt: { // 1 / (2 sqrt(a))
+      if (isZero(da))
+        return ctx.zero();
+      ExprRef chain = ctx.div(da, ctx.mul(ctx.constant(2), e));
+      // A piecewise argument clamped at 0 (sqrt(max(0, 2 g level)) of an
+      // empty tank, MSL's ControlledTanks) has da = 0 where a = 0, and
+      // 0/0 there made every Jacobian a domain error (IDA_CONV_FAIL at
+      // each retry): 0 where a does not move. Smooth arguments keep the
+      // plain rule (the SGA differentiates it again).
+      return readsIf(da) ? ctx.ifThenElse(ctx.compare(CompareKind::Eq, da,
+                                                      ctx.zero(),
+                                                      /*noEvent=*/true),
+                                          ctx.zero(), chain)
+                         : chain;
+    }
     case FuncKind::Abs:
       return scale(ctx.call(FuncKind::Sign, a), da);
     case FuncKind::Sign:
