@@ -15,9 +15,11 @@
 #include "graph/Scc.h"
 #include "ir/Differentiate.h"
 #include "ir/Query.h"
+#include "ir/Evaluate.h"
 #include "ir/Substitute.h"
 
 #include <algorithm>
+#include <limits>
 #include <queue>
 #include <tuple>
 #include <unordered_set>
@@ -97,6 +99,8 @@ private:
   Solvability solvability(int row, ir::VarKey k, ir::ExprRef *coef,
                           Branches branches = Branches::Reject);
   bool readsSelection(ir::ExprRef e) const;
+  /// Whether a coefficient of model parameters only is 0 at their values.
+  bool vanishesAtParameters(ir::ExprRef a) const;
   Solvability solvabilityIn(ir::ExprRef r, ir::VarKey k, ir::ExprRef *coef,
                             Branches branches = Branches::Reject);
   bool explicitOdeForm();
@@ -202,10 +206,33 @@ Solvability Causalizer::solvabilityIn(ir::ExprRef r, ir::VarKey k,
   // and changes during the run: never divide by it.
   if (readsSelection(a))
     return Solvability::No;
+  // A coefficient of parameters that is 0 at their values: the equation
+  // does not read the unknown there (MSL's Translational Vehicle sets its
+  // wheels' J = 0 in J*a = tau: dividing by it was a domain error at the
+  // start). Kept for the integrator, the equation holds for any value.
+  if (vanishesAtParameters(a))
+    return Solvability::No;
   *coef = a;
   if (variablesOf(a).empty() && !ir::dependsOnTime(a))
     return Solvability::Parameter;
   return Solvability::Variable;
+}
+
+bool Causalizer::vanishesAtParameters(ir::ExprRef a) const {
+  if (!variablesOf(a).empty() || ir::dependsOnTime(a))
+    return false;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  bool modelParameters = true;
+  ir::EvalEnv env;
+  env.variable = [&](ir::VarKey) { return nan; };
+  env.parameter = [&](ir::ParamId q) {
+    if (q < sys_.parameterValues.size())
+      return sys_.parameterValues[q];
+    modelParameters = false; // a discrete value: known only at run time
+    return nan;
+  };
+  Expected<double> v = ir::evaluate(a, env);
+  return modelParameters && v && *v == 0;
 }
 
 void Causalizer::scalarBlock(int row, int col) {
