@@ -158,8 +158,11 @@ std::string guessesOf(const ModelEval &ev, int set, const InitConditions &cond,
   for (int c = 0; c < ev.n() && vars.size() < 5; ++c) {
     if (cond.isHeld(c) || s.is_differential[c])
       continue;
-    bool reads = false;
-    for (int q = s.jac_colptr[c]; q < s.jac_colptr[c + 1] && !reads; ++q)
+    // A model with only a dense Jacobian has no pattern: any row may read
+    // the column.
+    bool reads = !s.jac_colptr;
+    for (int q = s.jac_colptr ? s.jac_colptr[c] : 0;
+         s.jac_colptr && q < s.jac_colptr[c + 1] && !reads; ++q)
       reads = bad[s.jac_rowind[q]];
     if (!reads)
       continue;

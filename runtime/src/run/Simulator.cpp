@@ -966,13 +966,14 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   while (true) {
     StepStatus st = integrator.step(t);
     // A step growing from a tiny first one after a restart (IDA's h0 =
-    // 0.5 / ||y'||, then doubling) is no collapse: only tiny steps that do
-    // not grow count.
+    // 0.5 / ||y'||, then doubling) is no collapse: a tiny step that grows
+    // is not counted. It does not reset the count either: near a
+    // singularity the steps shrink with a success's growth between them.
     const double h = integrator.lastStep();
-    if (st.ok() && h <= 1e4 * 2.2e-16 * std::fabs(t) && !(h > 1.5 * lastH))
-      ++tinySteps;
-    else
+    if (!st.ok() || h > 1e4 * 2.2e-16 * std::fabs(t))
       tinySteps = 0;
+    else if (!(h > 1.5 * lastH))
+      ++tinySteps;
     lastH = h;
     if (tinySteps > 20)
       st = StepStatus::failed(FailureKind::StepCollapsed, "step size collapse");
