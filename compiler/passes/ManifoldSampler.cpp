@@ -115,11 +115,10 @@ void ManifoldSampler::addEquation(ir::ExprRef phi, int generation) {
   eq.exprNodes = double(ir::dagSize(phi));
   for (const auto &[c, g] : eq.gradient)
     eq.gradientNodes += double(ir::dagSize(g));
-  // Building the gradient costs about what evaluating it does: charged to
-  // the same budget. A mutated Andrews' squeezer (der(der(v[6]))) spent
-  // 8 s of CPU differentiating and re-adding the halves of one generation
-  // whose projections alone stayed within the budget.
-  // Each partial derivative walks the whole equation.
+  // Building the gradient is charged to the same budget: each partial
+  // derivative walks the whole equation. A mutated Andrews' squeezer
+  // (der(der(v[6]))) spent 8 s of CPU differentiating and re-adding the
+  // halves of one generation whose projections alone stayed within it.
   evaluations_ += eq.exprNodes * double(eq.gradient.size()) + eq.gradientNodes;
   eqs_.push_back(std::move(eq));
 }

@@ -161,9 +161,9 @@ std::string guessesOf(const ModelEval &ev, int set, const InitConditions &cond,
     // A model with only a dense Jacobian has no pattern: any row may read
     // the column.
     bool reads = !s.jac_colptr;
-    for (int q = s.jac_colptr ? s.jac_colptr[c] : 0;
-         s.jac_colptr && q < s.jac_colptr[c + 1] && !reads; ++q)
-      reads = bad[s.jac_rowind[q]];
+    if (s.jac_colptr)
+      for (int q = s.jac_colptr[c]; q < s.jac_colptr[c + 1] && !reads; ++q)
+        reads = bad[s.jac_rowind[q]];
     if (!reads)
       continue;
     vars.push_back(fmt::format("'{}' (guess {:.6g}, reached {:.6g})",
