@@ -185,7 +185,8 @@ void EventLoop::noteJump(double t, const std::vector<double> &before,
 }
 
 bool EventLoop::observed(double t, const std::vector<double> &y,
-                         const std::vector<double> &yp, const double *against) {
+                         const std::vector<double> &yp,
+                         const std::vector<double> &readBefore) {
   // A delayed expression that moved shows d later: the run restarts and
   // aims at that instant (DelayLine.h) even when nothing reads it now.
   if (!delays_.empty()) {
@@ -193,33 +194,45 @@ bool EventLoop::observed(double t, const std::vector<double> &y,
     if (!te.empty() && delays_.moved(te.data()))
       return true;
   }
-  return reads(t, y, yp, ev_.discrete(), against, true);
+  std::vector<double> now = readings(t, y, yp, ev_.discrete(), nullptr, true);
+  if (now.empty() || readBefore.size() != now.size())
+    return true;
+  for (size_t i = 0; i < now.size(); ++i)
+    if (differs(now[i], readBefore[i]))
+      return true;
+  return false;
+}
+
+std::vector<double> EventLoop::readings(double t, const std::vector<double> &y,
+                                        const std::vector<double> &yp,
+                                        double *slots, const double *with,
+                                        bool outputs) {
+  std::vector<double> kept(slots, slots + nd_);
+  if (with)
+    std::copy(with, with + nd_, slots);
+  int no = outputs ? m_.n_outputs : 0;
+  std::vector<double> into(size_t(ev_.n()) * m_.n_state_sets + no, 0.0);
+  int rc = 0;
+  for (int k = 0; k < m_.n_state_sets; ++k)
+    rc |= ev_.residual(k, t, y.data(), yp.data(), into.data() + k * ev_.n());
+  if (no > 0 && m_.outputs)
+    rc |= m_.outputs(t, y.data(), yp.data(), ev_.params(),
+                     into.data() + ev_.n() * m_.n_state_sets);
+  std::copy(kept.begin(), kept.end(), slots);
+  if (rc != 0)
+    into.clear();
+  return into;
 }
 
 bool EventLoop::reads(double t, const std::vector<double> &y,
                       const std::vector<double> &yp, double *slots,
                       const double *against, bool outputs) {
-  std::vector<double> now(slots, slots + nd_);
-  auto evaluate = [&](std::vector<double> &into) {
-    int no = outputs ? m_.n_outputs : 0;
-    into.assign(size_t(ev_.n()) * m_.n_state_sets + no, 0.0);
-    int rc = 0;
-    for (int k = 0; k < m_.n_state_sets; ++k)
-      rc |= ev_.residual(k, t, y.data(), yp.data(), into.data() + k * ev_.n());
-    if (no > 0 && m_.outputs)
-      rc |= m_.outputs(t, y.data(), yp.data(), ev_.params(),
-                       into.data() + ev_.n() * m_.n_state_sets);
-    return rc == 0;
-  };
-  std::vector<double> after, before;
-  bool ok = evaluate(after);
-  std::copy(against, against + nd_, slots);
-  ok = ok && evaluate(before);
-  std::copy(now.begin(), now.end(), slots);
-  if (!ok)
+  std::vector<double> now = readings(t, y, yp, slots, nullptr, outputs);
+  std::vector<double> then = readings(t, y, yp, slots, against, outputs);
+  if (now.empty() || then.empty())
     return true;
-  for (size_t i = 0; i < after.size(); ++i)
-    if (differs(after[i], before[i]))
+  for (size_t i = 0; i < now.size(); ++i)
+    if (differs(now[i], then[i]))
       return true;
   return false;
 }
@@ -309,6 +322,15 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
   for (int iter = 0;; ++iter) {
     if (iter > 0)
       last.assign(cur, cur + nd_);
+    // What the point reads at the values of the round before, taken before
+    // the update runs: an external object's state may move with it (the
+    // MSL's CombiTimeTable advances its event interval in
+    // getNextTimeEvent, and from then on reads its old next event time as
+    // the new interval), so evaluated again afterwards with those values
+    // it would read the new ones, and a stop button pressed at a table's
+    // time event went unseen in ControlledTanks.
+    const std::vector<double> readBefore =
+        readings(t, y, yp, cur, last.data(), true);
     if (!update(t, y.data(), yp.data())) {
       message_ = fmt::format("the event update could not be evaluated at t "
                              "= {:.10g}",
@@ -408,7 +430,7 @@ EventOutcome EventLoop::iterate(double t, std::vector<double> &y,
       visible = true;
       atFixedPre = true;
       continue;
-    } else if (!held.empty() || observed(t, y, yp, last.data())) {
+    } else if (!held.empty() || observed(t, y, yp, readBefore)) {
       // Whether the discrete equations give these values back at the
       // point they were evaluated on (below).
       bool settledHere = held.empty() && reproduces(t, y, yp);

@@ -116,13 +116,20 @@ private:
   EventOutcome iterate(double t, std::vector<double> &y,
                        std::vector<double> &yp, const Reinitialize &reinit);
   /// Whether the residuals or the outputs at (t, y, y') read the discrete
-  /// values the last update changed (current against `against`, the values
-  /// of the round before).
+  /// values the last update changed: they differ from `readBefore`, what
+  /// they read before that update ran (readings()).
   bool observed(double t, const std::vector<double> &y,
-                const std::vector<double> &yp, const double *against);
+                const std::vector<double> &yp,
+                const std::vector<double> &readBefore);
+  /// The residuals of every state set (and the outputs, with `outputs`) at
+  /// (t, y, y') with the nd_ values at `slots` (the discrete values or
+  /// their pre() values) replaced by `with` (none: as they are); empty if
+  /// they could not be evaluated.
+  std::vector<double> readings(double t, const std::vector<double> &y,
+                               const std::vector<double> &yp, double *slots,
+                               const double *with, bool outputs);
   /// Whether the residuals (and the outputs, with `outputs`) at (t, y, y')
-  /// change when the nd_ values at `slots` (the discrete values or their
-  /// pre() values) are replaced by `against`.
+  /// change when the nd_ values at `slots` are replaced by `against`.
   bool reads(double t, const std::vector<double> &y,
              const std::vector<double> &yp, double *slots,
              const double *against, bool outputs);
