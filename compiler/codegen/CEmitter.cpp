@@ -9,6 +9,7 @@
 
 #include "codegen/EmbeddedText.h"
 #include "codegen/LlvmEmitter.h"
+#include "support/CLiteral.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,18 +23,7 @@ using ir::FuncKind;
 
 namespace {
 
-std::string number(double v) {
-  if (std::isnan(v))
-    return "NAN";
-  if (std::isinf(v))
-    return v > 0 ? "HUGE_VAL" : "(-HUGE_VAL)";
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  std::string s = buf;
-  if (s.find_first_of(".en") == std::string::npos)
-    s += ".0";
-  return v < 0 ? "(" + s + ")" : s;
-}
+std::string number(double v) { return cDoubleLiteral(v); }
 
 std::string quote(const std::string &s) {
   std::string out = "\"";

@@ -193,7 +193,8 @@ void evaluateNodes(const PlanFunction &fn, double t, const double *y,
       else if (n.op == OpCode::Or)
         e = err[n.a] || (a == 0 && err[n.b]);
       else {
-        e = n.checks && domainError(n, a, b);
+        e = n.checks && (n.op == OpCode::ExtCall ? std::isnan(r)
+                                                 : domainError(n, a, b));
         for (unsigned i = 0; i < numOperands(n.op); ++i)
           e = e || err[n.operand(i)];
       }

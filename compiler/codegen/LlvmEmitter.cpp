@@ -269,6 +269,7 @@ private:
     case OpCode::ExtCall: {
       if (n.sub != 1) {
         r = externalCall(k);
+        check = b_.CreateFCmpUNO(r, r);
         break;
       }
       // Only where the guard holds (a branch of an if taken): tables keep
@@ -287,6 +288,7 @@ private:
       phi->addIncoming(zero(), before);
       phi->addIncoming(called, callEnd);
       r = phi;
+      check = b_.CreateFCmpUNO(r, r);
       break;
     }
     case OpCode::Reduce: {

@@ -133,6 +133,12 @@ public:
     case OpCode::Func2:
       n.checks = FuncKind(n.sub) == FuncKind::Mod;
       break;
+    case OpCode::ExtCall:
+      // C code says it failed by a NaN (a compiled function's assertion or
+      // subscript out of range, CompiledFunctions.cpp): a domain error, as
+      // sqrt of a negative number is, never a silent NaN in a row.
+      n.checks = true;
+      break;
     default:
       break;
     }

@@ -10,8 +10,6 @@
 #include "ir/External.h"
 #include "support/SourceManager.h"
 
-#include <openssl/evp.h>
-
 #include <dlfcn.h>
 
 #include <cctype>
@@ -98,18 +96,6 @@ std::vector<std::string> annotationStrings(const ast::ClassDef &fn,
   return out;
 }
 
-std::string shortHash(const std::string &text) {
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int len = 0;
-  EVP_Digest(text.data(), text.size(), digest, &len, EVP_sha256(), nullptr);
-  static const char hex[] = "0123456789abcdef";
-  std::string out;
-  for (unsigned i = 0; i < 8 && i < len; ++i) {
-    out += hex[digest[i] >> 4];
-    out += hex[digest[i] & 15];
-  }
-  return out;
-}
 
 bool isCIdentifier(const std::string &s) {
   if (s.empty() || std::isdigit(static_cast<unsigned char>(s[0])))
@@ -454,7 +440,7 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     w << "}\n";
     body = w.str();
   }
-  std::string symbol = "ldaeext_" + cFunction + "_" + shortHash(src.str() + body);
+  std::string symbol = "ldaeext_" + cFunction + "_" + sha256Hex(src.str() + body).substr(0, 16);
   src << (stringResult ? "const char *" : "void ") << symbol << body;
 
   CBuild build;

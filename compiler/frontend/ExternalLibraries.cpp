@@ -41,19 +41,6 @@ std::optional<std::string> readFile(const std::string &path) {
   return s.str();
 }
 
-std::string sha256Hex(const std::string &data) {
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int len = 0;
-  EVP_Digest(data.data(), data.size(), digest, &len, EVP_sha256(), nullptr);
-  static const char hex[] = "0123456789abcdef";
-  std::string out;
-  for (unsigned i = 0; i < len; ++i) {
-    out += hex[digest[i] >> 4];
-    out += hex[digest[i] & 15];
-  }
-  return out;
-}
-
 /// Everything the shared object depends on, in one string to hash; an
 /// error when a source cannot be read.
 Expected<std::string> keyText(const CBuild &b) {
@@ -234,6 +221,20 @@ Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir) {
     return Error{std::string("cannot load the compiled C code: ") + dlerror()};
   loaded.emplace(std::move(request), handle);
   return handle;
+}
+
+
+std::string sha256Hex(const std::string &data) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int len = 0;
+  EVP_Digest(data.data(), data.size(), digest, &len, EVP_sha256(), nullptr);
+  static const char hex[] = "0123456789abcdef";
+  std::string out;
+  for (unsigned i = 0; i < len; ++i) {
+    out += hex[digest[i] >> 4];
+    out += hex[digest[i] & 15];
+  }
+  return out;
 }
 
 } // namespace ldae::frontend

@@ -35,4 +35,7 @@ const char *modelicaUtilitiesSource();
 /// an error carries the compiler's first messages.
 Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir);
 
+/// The SHA-256 of `data` in hex (cache keys, unique C symbol names).
+std::string sha256Hex(const std::string &data);
+
 } // namespace ldae::frontend

@@ -339,6 +339,33 @@ public:
   std::optional<std::vector<Value>>
   inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
              const Scope &scope, Env *env);
+  /// A function's variables, each with the class that declares it (bases
+  /// first, MLS 12.2), and the class whose algorithm (or external clause)
+  /// is its body.
+  struct FunctionParts {
+    std::vector<const ast::Component *> comps;
+    std::vector<const ast::ClassDef *> owner;
+    const ast::ClassDef *body = nullptr;
+  };
+  std::optional<FunctionParts> functionParts(const ast::ClassDef &fn,
+                                             SourceRange where);
+  /// Whether `type`, read in `in`, is Real, Integer, Boolean or an
+  /// enumeration, through short classes.
+  bool isNumericType(const ast::Name &type, const ast::ClassDef &in);
+
+  // ----- CompiledFunctions.cpp
+  /// The outputs of function `fn` computed by its body compiled to C and
+  /// called at run time, for the inputs bound in `fenv` (its other
+  /// variables there give their shapes); `at` is the call.
+  std::optional<std::vector<Value>> compiledCall(const ast::ClassDef &fn,
+                                                 const FunctionParts &parts,
+                                                 const Env &fenv,
+                                                 SourceRange at);
+  /// Set, with nothing reported, where a function's statements cannot run
+  /// symbolically but can at run time (a while-condition that reads
+  /// variables, a loop past the statement budget): inlineCall compiles
+  /// the function instead.
+  bool compileInstead_ = false;
 
   // ----- ExternalFunctions.cpp
   /// The outputs of external function `fn` with its inputs bound in `fenv`
@@ -413,6 +440,7 @@ public:
 
 private:
   friend class EquationFlattener;
+  friend class FunctionTranslator;
   friend class ConnectionBuilder;
 
   // Instantiate.cpp

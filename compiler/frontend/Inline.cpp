@@ -54,53 +54,12 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
             "once, when compiling, where a parameter's value is computed)"});
     return std::nullopt;
   }
-  // `extends` (MSL's densities extend partialDensity, which declares the
-  // input u and the output y): the variables of the bases come first, in
-  // order, then the function's own; the algorithm is the one of the chain
-  // that has one (MLS 12.2: at most one, possibly inherited). Each
-  // variable's type and default are read in the class that declares it.
-  std::vector<const ast::Component *> comps;
-  std::vector<const ast::ClassDef *> owner;
-  const ast::ClassDef *body = nullptr;
-  bool inherited = false;
-  std::function<bool(const ast::ClassDef &, unsigned)> collect =
-      [&](const ast::ClassDef &c, unsigned depth) {
-        for (const ast::Extends &ext : c.extends) {
-          const ast::ClassDef *base = classes_.resolveClass(
-              ext.base, c.parent, c.file, /*report=*/false);
-          if (!base || depth > 32 || (ext.mod && !ext.mod->args.empty())) {
-            report(DiagId::ErrUnsupported, ext.loc,
-                   {base ? "'extends' with modifiers in functions"
-                         : "'extends' of this class in functions"});
-            return false;
-          }
-          if (!collect(*base, depth + 1))
-            return false;
-        }
-        for (const ast::Component &comp : c.components) {
-          comps.push_back(&comp);
-          owner.push_back(&c);
-          inherited = inherited || &c != &fn;
-        }
-        if (!c.algorithm.empty() || c.isExternal) {
-          if (body) {
-            report(DiagId::ErrUnsupported, c.loc,
-                   {"a function with two algorithm sections"});
-            return false;
-          }
-          body = &c;
-        }
-        return true;
-      };
-  if (!collect(fn, 0))
+  std::optional<FunctionParts> parts = functionParts(fn, where);
+  if (!parts)
     return std::nullopt;
-  if (!body)
-    body = &fn;
-  if (body->isExternal && (inherited || body != &fn)) {
-    report(DiagId::ErrUnsupported, where,
-           {"an external function '" + fn.name + "' that inherits"});
-    return std::nullopt;
-  }
+  const std::vector<const ast::Component *> &comps = parts->comps;
+  const std::vector<const ast::ClassDef *> &owner = parts->owner;
+  const ast::ClassDef *body = parts->body;
   std::vector<const ast::Component *> inputs;
   for (const ast::Component *c : comps)
     if (isInput(*c))
@@ -145,32 +104,6 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   }
 
   Env fenv; // a function sees its own names only, never the caller's
-  // A variable's type: Real, Integer, Boolean, or a type that names one
-  // (MSL's `input SI.Temperature T`) or an enumeration, through short
-  // classes.
-  auto numericType = [&](const ast::Name &type, const ast::ClassDef &in) {
-    ast::Name cur = type;
-    const ast::ClassDef *scope = &in;
-    uint32_t file = in.file;
-    for (unsigned guard = 0; guard < 32; ++guard) {
-      if (!cur.global && cur.parts.size() == 1 &&
-          (cur.parts[0] == "Real" || cur.parts[0] == "Integer" ||
-           cur.parts[0] == "Boolean"))
-        return true;
-      const ast::ClassDef *cls =
-          classes_.resolveClass(cur, scope, file, /*report=*/false);
-      if (!cls)
-        return false;
-      if (enumerationOf(cls))
-        return true;
-      if (!cls->isShort)
-        return false;
-      scope = cls->parent;
-      file = cls->file;
-      cur = cls->shortBase;
-    }
-    return false;
-  };
   // An external function also takes Strings and external objects.
   auto externalOnlyType = [&](const ast::Name &type) {
     if (!fn.isExternal)
@@ -188,7 +121,7 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     const ast::Component &c = *comps[i];
     // Strings are values known when compiling (Value::str): scalars only.
     bool scalarString = isStringType(c.typeName) && c.dims.empty();
-    if (!numericType(c.typeName, *owner[i]) && !scalarString &&
+    if (!isNumericType(c.typeName, *owner[i]) && !scalarString &&
         !(fn.isExternal && externalOnlyType(c.typeName))) {
       report(DiagId::ErrUnsupported, c.typeName.loc,
              {"function variables of type '" + c.typeName.str() + "'"});
@@ -292,9 +225,14 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   }
   if (fn.isExternal)
     return externalCall(fn, fenv);
+  const Env atEntry = fenv; // the inputs' values, every variable's shape
   if (execStatements(body->algorithm, fn, Scope{nullptr, body}, fenv) !=
-      ExecResult::Ok)
-    return std::nullopt;
+      ExecResult::Ok) {
+    if (!compileInstead_)
+      return std::nullopt;
+    compileInstead_ = false;
+    return compiledCall(fn, *parts, atEntry, where);
+  }
   std::vector<Value> outputs;
   for (const ast::Component *comp : comps) {
     const ast::Component &c = *comp;
@@ -484,6 +422,10 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
       if (constantValue(exited).value_or(0) != 0)
         return ExecResult::Ok; // every path has left
     if (++statementBudget_ > kMaxStatements) {
+      if (!fscope.inst) {
+        compileInstead_ = true; // it runs as a compiled function
+        return ExecResult::Error;
+      }
       report(DiagId::ErrLoopTooLong, st.loc, {fn.name});
       return ExecResult::Error;
     }
@@ -558,6 +500,10 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
     case ast::StatementKind::While: {
       for (unsigned iter = 0;; ++iter) {
         if (iter > kMaxWhileIterations) {
+          if (!fscope.inst) {
+            compileInstead_ = true;
+            return ExecResult::Error;
+          }
           report(DiagId::ErrLoopTooLong, where, {fn.name});
           return ExecResult::Error;
         }
@@ -566,6 +512,12 @@ Flattener::execStatements(const std::vector<ast::Statement> &list,
           return ExecResult::Error;
         std::optional<double> known =
             cond->isScalar() ? constantValue(cond->scalarExpr()) : std::nullopt;
+        if (!known && !fscope.inst) {
+          // The loop runs at run time: the function is compiled
+          // (CompiledFunctions.cpp).
+          compileInstead_ = true;
+          return ExecResult::Error;
+        }
         if (!known) {
           report(DiagId::ErrNotParameterExpr,
                  SourceRange{st.conds[0]->loc, st.conds[0]->length},
@@ -628,6 +580,82 @@ ir::ExprRef Flattener::exitedOf(const Env &env) {
 bool Flattener::continueLoop(Env &env) {
   ir::ExprRef exited = exitedOf(env);
   return !exited || constantValue(exited).value_or(0) == 0;
+}
+
+std::optional<Flattener::FunctionParts>
+Flattener::functionParts(const ast::ClassDef &fn, SourceRange where) {
+  // `extends` (MSL's densities extend partialDensity, which declares the
+  // input u and the output y): the variables of the bases come first, in
+  // order, then the function's own; the algorithm is the one of the chain
+  // that has one (MLS 12.2: at most one, possibly inherited). Each
+  // variable's type and default are read in the class that declares it.
+  FunctionParts parts;
+  bool inherited = false;
+  std::function<bool(const ast::ClassDef &, unsigned)> collect =
+      [&](const ast::ClassDef &c, unsigned depth) {
+        for (const ast::Extends &ext : c.extends) {
+          const ast::ClassDef *base = classes_.resolveClass(
+              ext.base, c.parent, c.file, /*report=*/false);
+          if (!base || depth > 32 || (ext.mod && !ext.mod->args.empty())) {
+            report(DiagId::ErrUnsupported, ext.loc,
+                   {base ? "'extends' with modifiers in functions"
+                         : "'extends' of this class in functions"});
+            return false;
+          }
+          if (!collect(*base, depth + 1))
+            return false;
+        }
+        for (const ast::Component &comp : c.components) {
+          parts.comps.push_back(&comp);
+          parts.owner.push_back(&c);
+          inherited = inherited || &c != &fn;
+        }
+        if (!c.algorithm.empty() || c.isExternal) {
+          if (parts.body) {
+            report(DiagId::ErrUnsupported, c.loc,
+                   {"a function with two algorithm sections"});
+            return false;
+          }
+          parts.body = &c;
+        }
+        return true;
+      };
+  if (!collect(fn, 0))
+    return std::nullopt;
+  if (!parts.body)
+    parts.body = &fn;
+  if (parts.body->isExternal && (inherited || parts.body != &fn)) {
+    report(DiagId::ErrUnsupported, where,
+           {"an external function '" + fn.name + "' that inherits"});
+    return std::nullopt;
+  }
+  return parts;
+}
+
+bool Flattener::isNumericType(const ast::Name &type, const ast::ClassDef &in) {
+  // Real, Integer, Boolean, or a type that names one (MSL's `input
+  // SI.Temperature T`) or an enumeration, through short classes.
+  ast::Name cur = type;
+  const ast::ClassDef *scope = &in;
+  uint32_t file = in.file;
+  for (unsigned guard = 0; guard < 32; ++guard) {
+    if (!cur.global && cur.parts.size() == 1 &&
+        (cur.parts[0] == "Real" || cur.parts[0] == "Integer" ||
+         cur.parts[0] == "Boolean"))
+      return true;
+    const ast::ClassDef *cls =
+        classes_.resolveClass(cur, scope, file, /*report=*/false);
+    if (!cls)
+      return false;
+    if (enumerationOf(cls))
+      return true;
+    if (!cls->isShort)
+      return false;
+    scope = cls->parent;
+    file = cls->file;
+    cur = cls->shortBase;
+  }
+  return false;
 }
 
 } // namespace ldae::frontend

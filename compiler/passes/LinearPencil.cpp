@@ -67,6 +67,13 @@ bool readsPre(ir::ExprRef e) {
   return false;
 }
 
+bool callsExternal(ir::ExprRef e) {
+  for (ir::ExprRef n : ir::topologicalOrder({&e, 1}))
+    if (n->kind() == ir::ExprKind::External)
+      return true;
+  return false;
+}
+
 /// The constant value of `partial`, or nullopt when it varies with the
 /// unknowns or time.
 std::optional<double> constantValue(ir::ExprRef partial,
@@ -80,6 +87,11 @@ std::optional<double> constantValue(ir::ExprRef partial,
       return std::nullopt;
     return *v;
   }
+  // C code is called only at values a run can reach: MSL's CombiTimeTable
+  // read at a random time and event times crashed in getValue
+  // (Interaction1). Such a coefficient is not known to be constant.
+  if (callsExternal(partial))
+    return std::nullopt;
   // The simplifier may leave a cancelling term ((x + 1)^2 - x^2 - 2x):
   // a value that does not move at random points is constant.
   std::uniform_real_distribution<double> u(-2.0, 2.0);

@@ -9,6 +9,7 @@
 // structural index reduction chose: where they differ, structure was
 // fooled (cancellation, a singular derivative matrix) and the SGA's count
 // stands in the report.
+#include "ir/External.h"
 #include "passes/Events.h"
 #include "passes/Passes.h"
 #include "passes/Results.h"
@@ -188,11 +189,32 @@ private:
   bool always_; // the sga and ode methods: no size limit
 };
 
+/// The name of an external function an equation calls with arguments
+/// that read the unknowns or time, "" if none.
+std::string externalOfUnknowns(const ir::Model &m) {
+  for (const ir::Equation &eq : m.equations)
+    for (ir::ExprRef n : ir::topologicalOrder({&eq.residual, 1}))
+      if (n->kind() == ir::ExprKind::External &&
+          (!ir::freeVariables(n).empty() || ir::dependsOnTime(n)))
+        return ir::externalFunction(n->externalId()).name;
+  return "";
+}
+
 bool SgaPass::runOn(PassContext &ctx, const EventResult &ev, SgaResult &out,
                     ir::DaeSystem &sys) {
   out.input = sgaInput(ctx.model);
   if (out.input.unknowns.empty())
     return equationsWithoutUnknownsHold(ctx, out);
+  // The sampling evaluates the equations at points a run never reaches,
+  // and C code may not survive them: MSL's CombiTimeTable read before its
+  // first getNextTimeEvent indexes an interval table it has not built
+  // (Interaction1 crashed in getValue).
+  if (std::string c = externalOfUnknowns(ctx.model); !c.empty()) {
+    out.skipped = "the model calls the external function '" + c +
+                  "' at values of its unknowns, and C code is called only at "
+                  "points a run reaches";
+    return true;
+  }
   size_t slots = 0;
   for (int o : out.input.originalOrder)
     slots += static_cast<size_t>(std::max(1, o));
