@@ -6,6 +6,7 @@
 // shares. Replacing it by the value that equation gives is then an exact
 // rewriting of each set's system, whichever set the run is in.
 #include "passes/Causalize.h"
+#include "passes/Events.h"
 #include "passes/Pass.h"
 #include "passes/Passes.h"
 #include "passes/Results.h"
@@ -545,8 +546,10 @@ bool Causalizer::rebuild() {
     e = subst.apply(e);
   for (ir::ExprRef &e : next.roots)
     e = subst.apply(e);
+  const std::vector<ir::ExprRef> updateBefore = next.events.update;
   ir::forEachEventExpr(next.events,
                        [&](ir::ExprRef &e) { e = subst.apply(e); });
+  readUpdatedThroughSolved(next, updateBefore);
   std::vector<int> newIndex(n_, -1);
   for (size_t i = 0; i < keepUnknown.size(); ++i)
     newIndex[keepUnknown[i]] = static_cast<int>(i);

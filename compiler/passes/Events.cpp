@@ -1371,6 +1371,52 @@ void applyMode(ir::Model &m, const EventResult &ev,
     e.residual = s.apply(e.residual);
 }
 
+void readUpdatedThroughSolved(ir::DaeSystem &sys,
+                               const std::vector<ir::ExprRef> &before) {
+  ir::ExprContext &ctx = *sys.ctx;
+  std::vector<ir::ExprRef> &update = sys.events.update;
+  const std::vector<ir::DiscreteValue> &discrete = sys.events.discrete;
+  const size_t K = update.size();
+  const ir::ParamId base = static_cast<ir::ParamId>(sys.parameterValues.size());
+  auto currentReads = [&](ir::ExprRef e) {
+    std::set<size_t> out;
+    for (ir::ParamId p : ir::freeParameters(e))
+      if (p >= base && p < base + K)
+        out.insert(p - base);
+    return out;
+  };
+  std::vector<std::vector<size_t>> reads(K);
+  std::vector<std::set<size_t>> held(K);
+  for (size_t k = 0; k < K && k < before.size(); ++k) {
+    if (isInput(discrete[k].kind))
+      continue;
+    std::set<size_t> already = currentReads(before[k]);
+    for (size_t j : currentReads(update[k]))
+      if (j != k && !already.count(j) && !isInput(discrete[j].kind))
+        reads[k].push_back(j);
+  }
+  // A cycle through solved unknowns keeps the event iteration's rounds.
+  std::vector<size_t> order;
+  for (;;) {
+    std::vector<size_t> cycle = topologicalOrder(reads, held, order);
+    if (cycle.empty())
+      break;
+    for (size_t i = 0; i + 1 < cycle.size(); ++i)
+      held[cycle[i]].insert(cycle[i + 1]);
+  }
+  for (size_t k : order) {
+    ir::Substitution s(ctx);
+    bool any = false;
+    for (size_t j : reads[k])
+      if (!held[k].count(j)) {
+        s.set(ctx.param(base + static_cast<ir::ParamId>(j)), update[j]);
+        any = true;
+      }
+    if (any)
+      update[k] = s.apply(update[k]);
+  }
+}
+
 bool fillEvents(PassContext &pc, const EventResult &ev,
                 const std::function<ir::ExprRef(ir::ExprRef)> &apply,
                 ir::DaeSystem &sys) {
@@ -1389,6 +1435,7 @@ bool fillEvents(PassContext &pc, const EventResult &ev,
   es.discrete = ev.discrete;
   for (ir::ExprRef e : ev.update)
     es.update.push_back(apply(e));
+  readUpdatedThroughSolved(sys, ev.update);
   for (size_t j = 0; j < ev.roots.size(); ++j) {
     sys.roots.push_back(apply(ev.roots[j]));
     es.rootRelation.push_back(ev.rootRelation[j]);

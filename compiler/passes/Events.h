@@ -56,6 +56,17 @@ struct EventResult {
   }
 };
 
+/// After unknowns solved from their equations were substituted into
+/// sys.events.update (`before`: the update before that): a solved unknown
+/// reads discrete values too (MSL's table output reads its next event
+/// time), and there the update now reads the values it gives them, where
+/// that makes no cycle, as the sorted discrete equations do (MLS 8.6).
+/// Read with the values of the round before, IntegerTable's getValue ran
+/// before its first getNextTimeEvent at the initial event and indexed the
+/// interval table that call builds (a crash in MSL's Interaction1).
+void readUpdatedThroughSolved(ir::DaeSystem &sys,
+                              const std::vector<ir::ExprRef> &before);
+
 /// Moves `ev` into `sys` (events, roots; parameterValues/Names keep only
 /// the user's parameters) through `apply`, which maps an expression over
 /// the model's variables to the system's layout (alias values, then the

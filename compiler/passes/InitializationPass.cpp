@@ -45,7 +45,7 @@ struct InitSystem {
 /// (kept by reference).
 ir::EvalEnv envAt(const PassContext &s, const InitSystem &is,
                   const SystemLayout &layout, const std::vector<double> &x) {
-  ir::EvalEnv env = s.startEnv();
+  ir::EvalEnv env = s.initializationEnv();
   env.variable = [&is, &layout, &x](ir::VarKey k) {
     SlotRead sr = layout.read(k);
     if (sr.unknown < 0)

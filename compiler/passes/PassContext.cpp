@@ -1,10 +1,12 @@
 // Helpers shared by the passes: locations and texts for messages, and the
 // start point at which value-dependent choices are made.
 #include "passes/PassContext.h"
+#include "passes/Events.h"
 
 #include "ir/Print.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
 
@@ -62,6 +64,42 @@ ir::EvalEnv PassContext::startEnv() const {
     return m->variables[k.var].start;
   };
   std::vector<double> params = model.parameterValues();
+  env.parameter = [params](ir::ParamId p) {
+    return p < params.size() ? params[p] : 0.0;
+  };
+  return env;
+}
+
+ir::EvalEnv PassContext::initializationEnv() const {
+  ir::EvalEnv env = startEnv();
+  // A mode compiled during a run is not started: its C code (the tables)
+  // holds the run's state, which calls at the start time would reset.
+  if (!events || events->update.size() != events->discrete.size() ||
+      !opts.modeValues.empty())
+    return env;
+  // Computed once: the C code the update calls (a table's
+  // getNextTimeEvent) is called once.
+  if (!primedDone_) {
+    primedDone_ = true;
+    std::vector<double> at = model.parameterValues();
+    for (size_t k = 0; k < events->discrete.size(); ++k)
+      if (events->discrete[k].kind == ir::DiscreteKind::Initial &&
+          events->current(k) < at.size())
+        at[events->current(k)] = 1;
+    ir::EvalEnv initial = env;
+    initial.parameter = [&at](ir::ParamId p) {
+      return p < at.size() ? at[p] : 0.0;
+    };
+    for (size_t k = 0; k < events->discrete.size(); ++k)
+      if (events->discrete[k].kind == ir::DiscreteKind::Variable)
+        if (Expected<double> v = ir::evaluate(events->update[k], initial);
+            v && std::isfinite(*v))
+          primed_.emplace_back(events->current(k), *v);
+  }
+  std::vector<double> params = model.parameterValues();
+  for (const auto &[p, v] : primed_)
+    if (p < params.size())
+      params[p] = v;
   env.parameter = [params](ir::ParamId p) {
     return p < params.size() ? params[p] : 0.0;
   };

@@ -53,9 +53,18 @@ public:
   /// Values of leaves at the start point: start values of variables,
   /// zero for derivatives, parameter values.
   ir::EvalEnv startEnv() const;
+  /// startEnv with the discrete variables primed as the run primes them
+  /// before it initializes (runtime EventLoop::prime): the update's value
+  /// at the start point with initial() true, pre() values at their start.
+  /// For the initialization's analysis only: what other passes decide
+  /// from start values must not read values of the first event.
+  ir::EvalEnv initializationEnv() const;
 
 private:
   std::vector<int> nameRank_; // a cache: variables are only appended
+  /// The primed current values (initializationEnv), computed once.
+  mutable std::vector<std::pair<ir::ParamId, double>> primed_;
+  mutable bool primedDone_ = false;
 };
 
 /// How to name the rows and columns of a graph in a singularity message.

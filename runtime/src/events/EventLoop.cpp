@@ -607,6 +607,20 @@ EventOutcome EventLoop::checkAccumulation(double t, std::vector<double> &y,
   return EventOutcome::Failed;
 }
 
+void EventLoop::prime(double t, const double *y, const double *yp) {
+  if (!active() || !m_.discrete_kind)
+    return;
+  std::vector<double> kept(ev_.discrete(), ev_.discrete() + nd_);
+  setKind(LDAE_DISCRETE_INITIAL, 1.0);
+  // A failure shows again at the initial event, which reports it.
+  bool ok = update(t, y, yp);
+  std::copy(kept.begin(), kept.end(), ev_.discrete());
+  if (ok)
+    for (int k = 0; k < nd_; ++k)
+      if (m_.discrete_kind[k] == LDAE_DISCRETE_VARIABLE)
+        ev_.discrete()[k] = out_[k];
+}
+
 void EventLoop::settle(int kind, double t, const double *y, const double *yp) {
   setKind(kind, 0.0);
   std::copy(ev_.discrete(), ev_.discrete() + nd_, ev_.pre());

@@ -65,6 +65,17 @@ public:
   /// The first time event strictly after t, or +infinity.
   double nextTimeEvent(double t, const double *y, const double *yp) const;
 
+  /// Before the initialization at `t` from the start point (y, y'): the
+  /// discrete variables take the update's values there with initial()
+  /// true (their pre() values stay the start values). Their equations are
+  /// equations of the initialization (MLS 8.6, a when-clause that fires at
+  /// initial() too), solved before the equations that read them: an MSL
+  /// table's output reads its next event time, and read before its
+  /// getNextTimeEvent ran, its C code indexed an interval table not yet
+  /// built (IntegerTable crashed). What reads unknowns reads their start
+  /// values here; the initial event evaluates it again on the initialized
+  /// point.
+  void prime(double t, const double *y, const double *yp);
   /// The initial event at `t` (initial() = 1): the initialization's
   /// discrete values from the start values, then initial() = 0 and the
   /// event iteration at t (pre(v) := v; a when-clause whose condition

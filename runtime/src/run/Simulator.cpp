@@ -492,6 +492,7 @@ void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
       rec.record(t, none, none);
     return true;
   };
+  events.prime(t, none, none);
   if (ended(events.initial(t, y, yp, nothingToMove)) ||
       !rec.record(t, none, none) || !(s_.stop > s_.start))
     return;
@@ -603,6 +604,8 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       yp(m.start_yp, m.start_yp + n);
   if (!fromStart)
     startFrom(ev, carry, y, yp);
+  else
+    events.prime(t, y.data(), yp.data());
 
   // Start with the best-conditioned state set at the start point.
   int set = chooseStateSet(pivotConditions(ev, t, y.data(), yp.data()), 0);
