@@ -36,15 +36,6 @@ bool RootWatch::evaluate(double t, const double *y, const double *yp) {
   return true;
 }
 
-bool RootWatch::exactlyZero(double t, const double *y,
-                            const double *yp) const {
-  const ldae_model &m = ev_.model();
-  std::vector<double> g(nr_);
-  if (nr_ == 0 || !m.roots || m.roots(t, y, yp, ev_.params(), g.data()) != 0)
-    return false;
-  return std::find(g.begin(), g.end(), 0.0) != g.end();
-}
-
 int RootWatch::sliding(double t, const std::vector<int> &found,
                        size_t events, double span) {
   for (int j = 0; j < nr_ && j < int(found.size()); ++j) {

@@ -45,12 +45,6 @@ public:
   /// the restart (a root function that stays zero must not hold every
   /// step to that length).
   double stopAheadOfZero(double t);
-  /// Whether a root function is exactly zero at (t, y, y'). IDA and CVODE
-  /// going on from a root they returned stop with "Root found at and very
-  /// near t" when it is still exactly zero just past t (a diode's v = vs -
-  /// vc, two equal doubles, leaving zero tangentially); a restart there
-  /// makes them set that root function aside until it leaves zero.
-  bool exactlyZero(double t, const double *y, const double *yp) const;
   /// At an event at t the roots `found` caused, which assigned no reinit and
   /// made no jump (call before restarted()): counts, per root, the events
   /// in a row since each of which its function stayed within kSlidingBand

@@ -196,6 +196,7 @@ struct CvodeIntegrator::Impl {
   SUNNonlinearSolver NLS = nullptr;
   double tstop = 0, rtol = 0, hmax = 0;
   int rootCount = 0;
+  bool rootReturned = false; // the last step returned a root, no restart since
   /// y' = f(t, y) at the current point, computed when first asked for.
   mutable std::vector<double> yp;
   mutable bool ypValid = false;
@@ -362,6 +363,7 @@ void CvodeIntegrator::saveCounters() {
 Expected<bool> CvodeIntegrator::restartAt(double t, const double *y) {
   Impl &I = *impl_;
   saveCounters();
+  I.rootReturned = false;
   std::copy(y, y + ev_.n(), N_VGetArrayPointer(I.y));
   I.t = t;
   I.ypValid = false;
@@ -538,8 +540,21 @@ StepStatus CvodeIntegrator::step(double &tret) {
   shared_.nonFinite = false;
   I.cb.singular = false;
   int flag = CVode(I.mem, oneStepTarget(I.t, I.tstop), I.y, &tret, CV_ONE_STEP);
-  if (flag == CV_ILL_INPUT && ev_.model().n_roots > 0 &&
-      shared_.message.find("cvRcheck2") != std::string::npos) {
+  auto closeRoots = [&] {
+    return flag == CV_ILL_INPUT && ev_.model().n_roots > 0 &&
+           shared_.message.find("cvRcheck2") != std::string::npos;
+  };
+  if (closeRoots() && I.rootReturned) {
+    // Going on from the root it returned, a root function it watches is
+    // exactly zero there and just past it: restarted at the root, CVODE
+    // sets it aside until it leaves zero (as IdaIntegrator::step does).
+    const std::vector<double> y(N_VGetArrayPointer(I.y),
+                                N_VGetArrayPointer(I.y) + ev_.n());
+    if (!restartAt(I.t, y.data()))
+      return StepStatus::failed(FailureKind::Other, "CVodeReInit");
+    flag = CVode(I.mem, oneStepTarget(I.t, I.tstop), I.y, &tret, CV_ONE_STEP);
+  }
+  if (closeRoots()) {
     // Restarted exactly on a root function's zero, and it is still zero
     // (to round-off) a hair later: a slow relation just after its event
     // (hysteresis: T = 294 K at T' = 7 K/s, rtol 1e-12). CVODE refuses
@@ -553,6 +568,7 @@ StepStatus CvodeIntegrator::step(double &tret) {
     if (CVodeRootInit(I.mem, ev_.model().n_roots, rootFn) < 0)
       return StepStatus::failed(FailureKind::Other, "CVodeRootInit");
   }
+  I.rootReturned = flag == CV_ROOT_RETURN;
   I.ypValid = false;
   I.yOnValid = false;
   if (flag < 0) {

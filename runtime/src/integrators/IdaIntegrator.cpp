@@ -121,6 +121,7 @@ struct IdaIntegrator::Impl {
   SUNLinearSolver LS = nullptr;
   double tstop = 0;
   int rootCount = 0;
+  bool rootReturned = false; // the last step returned a root, no restart since
 
   void freeSolver() {
     if (LS)
@@ -274,6 +275,7 @@ Expected<bool> IdaIntegrator::reinit(int set, double t, const double *y,
   addCounters(now);
   saved_ = now; // IDAReInit zeroes IDA's counters
   I.rootCount = 0;
+  I.rootReturned = false;
   int n = ev_.n();
   std::copy(y, y + n, N_VGetArrayPointer(I.y));
   std::copy(yp, yp + n, N_VGetArrayPointer(I.yp));
@@ -312,8 +314,30 @@ Expected<bool> IdaIntegrator::setMaxStep(double hmax) {
 StepStatus IdaIntegrator::step(double &tret) {
   Impl &I = *impl_;
   shared_.nonFinite = false;
-  int flag = IDASolve(I.mem, oneStepTarget(shared_.t, I.tstop), &tret, I.y,
-                      I.yp, IDA_ONE_STEP);
+  const double from = shared_.t;
+  int flag = IDASolve(I.mem, oneStepTarget(from, I.tstop), &tret, I.y, I.yp,
+                      IDA_ONE_STEP);
+  if (flag == IDA_ILL_INPUT && I.rootReturned &&
+      shared_.message.find("IDARcheck2") != std::string::npos) {
+    // Going on from the root it returned, IDA found a root function it
+    // watches exactly zero there and just past it ("Root found at and very
+    // near t": a diode's v = vs - vc, two equal doubles, leaving zero
+    // tangentially). Restarted at the root, IDA sets that function aside
+    // until it leaves zero. Only then: a restart at every root return
+    // where some root function was zero restarted for functions IDA had
+    // set aside already (a free clutch's normal force in `fn <= 0`, zero
+    // for seconds), each first step a thousandth of the way to the next
+    // stop, and MSL's SimpleGearShift, whose locked brake's speed crosses
+    // zero by round-off at nearly every step, collapsed its step size.
+    const std::vector<double> y(N_VGetArrayPointer(I.y),
+                                N_VGetArrayPointer(I.y) + ev_.n()),
+        yp(N_VGetArrayPointer(I.yp), N_VGetArrayPointer(I.yp) + ev_.n());
+    if (auto re = reinit(shared_.set, from, y.data(), yp.data()); !re)
+      return StepStatus::failed(FailureKind::Other, re.error());
+    flag = IDASolve(I.mem, oneStepTarget(from, I.tstop), &tret, I.y, I.yp,
+                    IDA_ONE_STEP);
+  }
+  I.rootReturned = flag == IDA_ROOT_RETURN;
   shared_.t = tret;
   if (flag < 0) {
     return overflowAware(failure(flag));

@@ -420,11 +420,6 @@ private:
   }
   void carryOver(const ModelEval &ev, double t, const std::vector<double> &y,
                  const std::vector<double> &yp, Carry &carry) const;
-  /// Going on without a restart from a root return at t: restarts the
-  /// integrator there when a root function is exactly zero (see
-  /// RootWatch::exactlyZero). False, with the failure, when it cannot.
-  bool restartOnZeroRoot(const ModelEval &ev, Integrator &integrator,
-                         const RootWatch &watch, double t);
   void startFrom(ModelEval &ev, const Carry &carry, std::vector<double> &y,
                  std::vector<double> &yp) const;
 
@@ -436,19 +431,6 @@ private:
   long nOut_ = 0;
   long k_ = 1; // next output time (of the grid, also with --every-step)
 };
-
-bool Run::restartOnZeroRoot(const ModelEval &ev, Integrator &integrator,
-                            const RootWatch &watch, double t) {
-  if (!watch.exactlyZero(t, integrator.y(), integrator.yp()))
-    return true;
-  int n = ev.n();
-  std::vector<double> y(integrator.y(), integrator.y() + n),
-      yp(integrator.yp(), integrator.yp() + n);
-  auto re = integrator.reinit(integrator.set(), t, y.data(), yp.data());
-  if (!re)
-    res_.failure = describeSolverError(t, re.error());
-  return bool(re);
-}
 
 void Run::closedForm(const ldae_model &m, const std::vector<double> &params,
                      const std::vector<int> &cols) {
@@ -1010,8 +992,6 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     bool forced = false; // a crossing ignored as round-off was real
     if (rootEvent && watch.withinRoundOff(integrator.rootsFound())) {
       rootEvent = false;
-      if (!restartOnZeroRoot(ev, integrator, watch, t))
-        return done(StageEnd::Done);
     } else if (!rootEvent && events.handlesRoots())
       forced = watch.stepped(t, integrator.y(), integrator.yp());
     if (st.kind == StepStatus::Root && !events.handlesRoots() && o_.log) {
@@ -1053,8 +1033,6 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
       if (out == EventOutcome::Unchanged) {
         rows_.truncate(rows);
         t = tRoot; // the integrator goes on from where it stopped
-        if (!restartOnZeroRoot(ev, integrator, watch, t))
-          return done(StageEnd::Done);
       } else if (out == EventOutcome::Restarted) {
         rows_.truncate(rows);
       } else if (auto end = concluded(out))
