@@ -12,6 +12,7 @@
 
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -71,6 +72,9 @@ const std::map<std::string, std::vector<std::string>> &knownLibraries() {
 struct CArg {
   std::string literal; // a String argument: its text, known when compiling
   bool output = false;
+  /// A protected array without a value (MSL's rawRealFFT `work`): scratch
+  /// space for the C code, zeros in, nothing out (MLS 12.9.1).
+  bool scratch = false;
   CType type = CType::Double;
   bool array = false;
   size_t offset = 0, count = 1; // in the wrapper's in[] or out[]
@@ -342,6 +346,22 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       args.push_back(arg);
       continue;
     }
+    if (c && c->prefix.causality == ast::Causality::None) {
+      const Value *v = fenv.find(c->name);
+      if (v && !v->isString &&
+          std::any_of(v->elems.begin(), v->elems.end(),
+                      [](ir::ExprRef x) { return !x; })) {
+        std::optional<CType> t = typeOf(*c);
+        if (!t)
+          return std::nullopt;
+        arg.type = *t;
+        arg.scratch = true;
+        arg.array = !c->dims.empty();
+        arg.count = v->size();
+        args.push_back(arg);
+        continue;
+      }
+    }
     if (c) {
       std::optional<CType> t = typeOf(*c);
       if (!t)
@@ -382,7 +402,7 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   // The wrapper: converts, calls, stores every output.
   std::vector<std::string> includes = annotationStrings(fn, "Include");
   std::ostringstream src;
-  src << "#include <stdint.h>\n";
+  src << "#include <stdint.h>\n#include <stdlib.h>\n";
   for (const std::string &inc : includes)
     src << inc << "\n";
   std::string ret = returned ? cName(*returnType) : "void";
@@ -391,7 +411,9 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     for (size_t i = 0; i < args.size(); ++i) {
       const CArg &a = args[i];
       src << (i ? ", " : "")
-          << (a.output || !a.array || a.type == CType::String ? "" : "const ")
+          << (a.output || a.scratch || !a.array || a.type == CType::String
+                  ? ""
+                  : "const ")
           << cName(a.type) << (a.output || a.array ? " *" : "");
     }
     src << (args.empty() ? "void" : "") << ");\n";
@@ -410,6 +432,13 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       } else if (a.type == CType::Object) {
         w << "  void *" << v << " = (void *)(uintptr_t)in[" << a.offset
           << "];\n";
+      } else if (a.scratch) {
+        w << "  " << cName(a.type) << " *" << v << " = calloc("
+          << std::max<size_t>(1, a.count) << ", sizeof(" << cName(a.type)
+          << "));\n  if (!" << v << ") {\n"
+          << "    for (int i = 0; i < " << numOut
+          << "; ++i) out[i] = 0.0 / 0.0;\n    return"
+          << (stringResult ? " 0" : "") << ";\n  }\n";
       } else if (a.array || a.output) {
         w << "  " << cName(a.type) << " " << v << "[" << std::max<size_t>(1, a.count)
           << "];\n";
@@ -431,6 +460,9 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       w << "  out[0] = (double)" << call << ";\n";
     else
       w << "  " << call << ";\n";
+    for (size_t i = 0; i < args.size(); ++i)
+      if (args[i].scratch)
+        w << "  free(a" << i << ");\n";
     for (size_t i = 0; i < args.size(); ++i)
       if (args[i].output)
         w << "  for (int i = 0; i < " << args[i].count << "; ++i) out["

@@ -336,9 +336,22 @@ public:
             const ast::Expr &where, const char *op);
 
   // ----- Inline.cpp
+  /// `given`: the inputs' values already lowered in the caller's scope
+  /// (nullopt where the default applies); without it the call's arguments
+  /// are lowered here.
   std::optional<std::vector<Value>>
   inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
-             const Scope &scope, Env *env);
+             const Scope &scope, Env *env,
+             const std::vector<std::optional<Value>> *given = nullptr);
+  /// A call whose arguments have the dimensions `over` more than their
+  /// inputs declare (MLS 12.4.6): the function applied to each element,
+  /// its outputs arrays of `over` and their own shape.
+  std::optional<std::vector<Value>>
+  vectorizedCall(const ast::ClassDef &fn, const ast::Expr &call,
+                 const Scope &scope, Env *env,
+                 const std::vector<const ast::Component *> &inputs,
+                 const std::vector<std::optional<Value>> &args,
+                 const std::vector<int64_t> &over);
   /// A function's variables, each with the class that declares it (bases
   /// first, MLS 12.2), and the class whose algorithm (or external clause)
   /// is its body.

@@ -34,7 +34,8 @@ bool isOutput(const ast::Component &c) {
 
 std::optional<std::vector<Value>>
 Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
-                      const Scope &scope, Env *env) {
+                      const Scope &scope, Env *env,
+                      const std::vector<std::optional<Value>> *given) {
   SourceRange where{call.loc, call.length};
   if (inlineDepth == 0)
     statementBudget_ = 0;
@@ -103,6 +104,33 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     bound[k] = a.value.get();
   }
 
+  // The arguments' values, in the caller's scope. An argument with more
+  // dimensions than its input declares makes the call vectorized (MLS
+  // 12.4.6: MSL's to_deg(Phi[1:nfi]) of a scalar input).
+  std::vector<std::optional<Value>> lowered;
+  if (!given) {
+    lowered.resize(inputs.size());
+    std::optional<std::vector<int64_t>> over; // the dimensions mapped over
+    bool mismatched = false;
+    for (size_t k = 0; k < inputs.size(); ++k) {
+      if (!bound[k])
+        continue;
+      lowered[k] = lower(*bound[k], scope, env);
+      if (!lowered[k])
+        return std::nullopt;
+      const Value &v = *lowered[k];
+      if (v.isString || v.shape.size() <= inputs[k]->dims.size())
+        continue;
+      std::vector<int64_t> lead(
+          v.shape.begin(),
+          v.shape.end() - static_cast<std::ptrdiff_t>(inputs[k]->dims.size()));
+      mismatched = mismatched || (over && *over != lead);
+      over = lead;
+    }
+    if (over && !mismatched)
+      return vectorizedCall(fn, call, scope, env, inputs, lowered, *over);
+    given = &lowered;
+  }
   Env fenv; // a function sees its own names only, never the caller's
   // An external function also takes Strings and external objects.
   auto externalOnlyType = [&](const ast::Name &type) {
@@ -134,9 +162,10 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     Scope fscope{nullptr, owner[i]};
     std::optional<Value> value;
     if (isInput(c)) {
-      const ast::Expr *arg = bound[inputIndex++];
+      const ast::Expr *arg = bound[inputIndex];
+      const std::optional<Value> &known = (*given)[inputIndex++];
       if (arg) {
-        value = lower(*arg, scope, env);
+        value = known;
         if (!value)
           return std::nullopt;
         if (value->isString != isStringType(c.typeName)) {
@@ -630,6 +659,58 @@ Flattener::functionParts(const ast::ClassDef &fn, SourceRange where) {
     return std::nullopt;
   }
   return parts;
+}
+
+std::optional<std::vector<Value>> Flattener::vectorizedCall(
+    const ast::ClassDef &fn, const ast::Expr &call, const Scope &scope,
+    Env *env, const std::vector<const ast::Component *> &inputs,
+    const std::vector<std::optional<Value>> &args,
+    const std::vector<int64_t> &over) {
+  int64_t count = 1;
+  for (int64_t d : over)
+    count *= d;
+  std::vector<Value> results;
+  for (int64_t i = 0; i < count; ++i) {
+    // Element i of each mapped argument, the others whole.
+    std::vector<std::optional<Value>> one(args.size());
+    for (size_t k = 0; k < args.size(); ++k) {
+      if (!args[k])
+        continue;
+      const Value &v = *args[k];
+      if (v.isString || v.shape.size() <= inputs[k]->dims.size()) {
+        one[k] = v;
+        continue;
+      }
+      Value e;
+      e.shape.assign(v.shape.begin() + static_cast<std::ptrdiff_t>(over.size()),
+                     v.shape.end());
+      size_t n = v.elems.size() / static_cast<size_t>(count);
+      e.elems.assign(v.elems.begin() + static_cast<std::ptrdiff_t>(i * n),
+                     v.elems.begin() + static_cast<std::ptrdiff_t>((i + 1) * n));
+      one[k] = std::move(e);
+    }
+    std::optional<std::vector<Value>> outs =
+        inlineCall(fn, call, scope, env, &one);
+    if (!outs)
+      return std::nullopt;
+    if (results.empty())
+      for (const Value &o : *outs) {
+        Value r;
+        r.shape = over;
+        r.shape.insert(r.shape.end(), o.shape.begin(), o.shape.end());
+        results.push_back(std::move(r));
+      }
+    for (size_t j = 0; j < outs->size() && j < results.size(); ++j) {
+      if ((*outs)[j].isString) {
+        report(DiagId::ErrUnsupported, SourceRange{call.loc, call.length},
+               {"a vectorized call of a function with String outputs"});
+        return std::nullopt;
+      }
+      results[j].elems.insert(results[j].elems.end(), (*outs)[j].elems.begin(),
+                              (*outs)[j].elems.end());
+    }
+  }
+  return results;
 }
 
 bool Flattener::isNumericType(const ast::Name &type, const ast::ClassDef &in) {
