@@ -78,6 +78,9 @@ struct Expr {
   std::vector<ExprPtr> ops;
   std::vector<bool> negated;              // Sum
   std::vector<Arg> args;                  // Call
+  /// Call: `function f(a = 1)` as an argument, a function value with `a`
+  /// bound (MLS 12.4.2.1); the call made where the value is called.
+  bool partialApplication = false;
   std::vector<ForIndex> iterators;        // Call (reduction), Array
   std::vector<std::vector<ExprPtr>> rows; // Matrix
 

@@ -918,7 +918,24 @@ private:
       return e;
     for (auto *arg : fa->functionArgument()) {
       if (arg->FUNCTION()) {
-        unsupported(loc(arg), "function partial application");
+        // A function value (MLS 12.4.2.1): the function's name and the
+        // inputs it binds, as a call that is not made here.
+        auto f = make(ast::ExprKind::Call, arg);
+        ast::Name n = name(arg->name());
+        for (const std::string &part : n.parts)
+          f->parts.push_back(ast::RefPart{part, {}});
+        f->text = n.str();
+        f->partialApplication = true;
+        if (auto *named = arg->namedArguments())
+          for (size_t i = 0; i < named->IDENT().size(); ++i) {
+            ast::Arg bound;
+            bound.name = ident(named->IDENT(i));
+            bound.value = expression(named->expression(i));
+            f->args.push_back(std::move(bound));
+          }
+        ast::Arg a;
+        a.value = std::move(f);
+        e->args.push_back(std::move(a));
         continue;
       }
       ast::Arg a;

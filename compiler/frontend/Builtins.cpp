@@ -83,6 +83,34 @@ ir::ExprRef Flattener::emptyMinMax(const std::string &name) {
 std::optional<std::vector<Value>>
 Flattener::lowerCallOutputs(const ast::Expr &call, const Scope &scope,
                             Env *env) {
+  if (call.partialApplication) {
+    report(DiagId::ErrUnsupported, SourceRange{call.loc, call.length},
+           {"a function value `function " + call.text +
+            "(...)` other than as an argument for an input of a function type"});
+    return std::nullopt;
+  }
+  // An input of a function type called (MLS 12.4.2.1): its function,
+  // with the inputs its partial application bound.
+  if (env && call.parts.size() == 1 && !call.global)
+    if (const FunctionValue *f = env->findFunction(call.parts[0].name)) {
+      FunctionValue value = *f; // the environment may grow while inlining
+      std::optional<FunctionParts> parts =
+          functionParts(*value.fn, SourceRange{call.loc, call.length});
+      if (!parts)
+        return std::nullopt;
+      std::vector<CallArgument> given;
+      for (const ast::Component *c : parts->comps) {
+        if (c->prefix.causality != ast::Causality::Input)
+          continue;
+        given.emplace_back();
+        for (const auto &[name, v] : value.bound)
+          if (name == c->name) {
+            given.back().value = v;
+            given.back().preBound = true;
+          }
+      }
+      return inlineCall(*value.fn, call, scope, env, &given);
+    }
   std::string builtin = builtinNameOf(call);
   if (builtin.empty() || !isBuiltinName(builtin)) {
     ast::Name fname = call.calleeName();

@@ -41,6 +41,22 @@ struct Scope {
   const ast::ClassDef *cls = nullptr;
 };
 
+/// A function value (MLS 12.4.2.1): a function and the inputs a partial
+/// application bound, their values lowered where it was written.
+struct FunctionValue {
+  const ast::ClassDef *fn = nullptr;
+  std::vector<std::pair<std::string, Value>> bound;
+};
+
+/// One input's argument of a call: a value, or a function value for an
+/// input of a function type; neither where the input's default applies.
+struct CallArgument {
+  std::optional<Value> value;
+  std::optional<FunctionValue> function;
+  /// Bound by a partial application: the call's own arguments skip it.
+  bool preBound = false;
+};
+
 /// Local names: for-iterators, function inputs, outputs and locals.
 struct Env {
   Env *parent = nullptr;
@@ -51,8 +67,12 @@ struct Env {
   /// holds.
   ir::ExprRef breaking = nullptr, returning = nullptr;
 
+  /// The inputs of a function type: their function values.
+  std::vector<std::pair<std::string, FunctionValue>> functions;
+
   Value *find(const std::string &name);
   void set(const std::string &name, Value v);
+  const FunctionValue *findFunction(const std::string &name) const;
 };
 
 /// A modification merged from declarations, extends clauses and the
@@ -336,13 +356,21 @@ public:
             const ast::Expr &where, const char *op);
 
   // ----- Inline.cpp
-  /// `given`: the inputs' values already lowered in the caller's scope
-  /// (nullopt where the default applies); without it the call's arguments
-  /// are lowered here.
+  /// `given`: the inputs' arguments already lowered (where a call's own
+  /// argument is missing, the input's default applies); without it the
+  /// call's arguments are lowered here.
   std::optional<std::vector<Value>>
   inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
              const Scope &scope, Env *env,
-             const std::vector<std::optional<Value>> *given = nullptr);
+             const std::vector<CallArgument> *given = nullptr);
+  /// The function value argument `e` denotes for an input of a function
+  /// type: a partial application `function f(a = 1)`, a function's name,
+  /// or an input of the caller that holds one.
+  std::optional<FunctionValue> functionArgument(const ast::Expr &e,
+                                                const Scope &scope, Env *env);
+  /// The function class `type` (read in `in`) names, or null.
+  const ast::ClassDef *functionTypeOf(const ast::Name &type,
+                                      const ast::ClassDef &in);
   /// A call whose arguments have the dimensions `over` more than their
   /// inputs declare (MLS 12.4.6): the function applied to each element,
   /// its outputs arrays of `over` and their own shape.
@@ -350,7 +378,7 @@ public:
   vectorizedCall(const ast::ClassDef &fn, const ast::Expr &call,
                  const Scope &scope, Env *env,
                  const std::vector<const ast::Component *> &inputs,
-                 const std::vector<std::optional<Value>> &args,
+                 const std::vector<CallArgument> &args,
                  const std::vector<int64_t> &over);
   /// A function's variables, each with the class that declares it (bases
   /// first, MLS 12.2), and the class whose algorithm (or external clause)

@@ -7,6 +7,7 @@
 #include "frontend/ExternalObject.h"
 #include "frontend/Flattener.h"
 
+#include <algorithm>
 #include <functional>
 
 #include <cmath>
@@ -35,7 +36,7 @@ bool isOutput(const ast::Component &c) {
 std::optional<std::vector<Value>>
 Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
                       const Scope &scope, Env *env,
-                      const std::vector<std::optional<Value>> *given) {
+                      const std::vector<CallArgument> *given) {
   SourceRange where{call.loc, call.length};
   if (inlineDepth == 0)
     statementBudget_ = 0;
@@ -62,15 +63,22 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   const std::vector<const ast::ClassDef *> &owner = parts->owner;
   const ast::ClassDef *body = parts->body;
   std::vector<const ast::Component *> inputs;
-  for (const ast::Component *c : comps)
-    if (isInput(*c))
-      inputs.push_back(c);
+  std::vector<const ast::ClassDef *> inputOwner;
+  for (size_t i = 0; i < comps.size(); ++i)
+    if (isInput(*comps[i])) {
+      inputs.push_back(comps[i]);
+      inputOwner.push_back(owner[i]);
+    }
 
   // Match the arguments to inputs: positional first, then by name.
   std::vector<const ast::Expr *> bound(inputs.size(), nullptr);
   size_t positional = 0;
   for (const ast::Arg &a : call.args) {
     if (a.name.empty()) {
+      // Inputs a partial application bound take no positional argument.
+      while (given && positional < inputs.size() &&
+             (*given)[positional].preBound)
+        ++positional;
       if (positional >= inputs.size()) {
         report(DiagId::ErrCallArgCount, where,
                {fn.name, std::to_string(inputs.size()),
@@ -107,7 +115,7 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
   // The arguments' values, in the caller's scope. An argument with more
   // dimensions than its input declares makes the call vectorized (MLS
   // 12.4.6: MSL's to_deg(Phi[1:nfi]) of a scalar input).
-  std::vector<std::optional<Value>> lowered;
+  std::vector<CallArgument> lowered;
   if (!given) {
     lowered.resize(inputs.size());
     std::optional<std::vector<int64_t>> over; // the dimensions mapped over
@@ -115,10 +123,16 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     for (size_t k = 0; k < inputs.size(); ++k) {
       if (!bound[k])
         continue;
-      lowered[k] = lower(*bound[k], scope, env);
-      if (!lowered[k])
+      if (functionTypeOf(inputs[k]->typeName, *inputOwner[k])) {
+        lowered[k].function = functionArgument(*bound[k], scope, env);
+        if (!lowered[k].function)
+          return std::nullopt;
+        continue;
+      }
+      lowered[k].value = lower(*bound[k], scope, env);
+      if (!lowered[k].value)
         return std::nullopt;
-      const Value &v = *lowered[k];
+      const Value &v = *lowered[k].value;
       if (v.isString || v.shape.size() <= inputs[k]->dims.size())
         continue;
       std::vector<int64_t> lead(
@@ -150,7 +164,8 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     // Strings are values known when compiling (Value::str): scalars only.
     bool scalarString = isStringType(c.typeName) && c.dims.empty();
     if (!isNumericType(c.typeName, *owner[i]) && !scalarString &&
-        !(fn.isExternal && externalOnlyType(c.typeName))) {
+        !(fn.isExternal && externalOnlyType(c.typeName)) &&
+        !(isInput(c) && functionTypeOf(c.typeName, *owner[i]))) {
       report(DiagId::ErrUnsupported, c.typeName.loc,
              {"function variables of type '" + c.typeName.str() + "'"});
       return std::nullopt;
@@ -163,13 +178,29 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     std::optional<Value> value;
     if (isInput(c)) {
       const ast::Expr *arg = bound[inputIndex];
-      const std::optional<Value> &known = (*given)[inputIndex++];
-      if (arg) {
-        value = known;
+      const CallArgument &known = (*given)[inputIndex++];
+      if (functionTypeOf(c.typeName, *owner[i])) {
+        std::optional<FunctionValue> f = known.function;
+        if (!f && arg)
+          f = functionArgument(*arg, scope, env);
+        if (!f) {
+          if (!arg)
+            report(DiagId::ErrMissingArgument, where, {c.name, fn.name});
+          return std::nullopt;
+        }
+        fenv.functions.emplace_back(c.name, std::move(*f));
+        continue;
+      }
+      if (arg || known.value) {
+        value = known.value;
+        if (!value && arg)
+          value = lower(*arg, scope, env);
         if (!value)
           return std::nullopt;
+        SourceRange argAt =
+            arg ? SourceRange{arg->loc, arg->length} : where;
         if (value->isString != isStringType(c.typeName)) {
-          report(DiagId::ErrArgumentType, SourceRange{arg->loc, arg->length},
+          report(DiagId::ErrArgumentType, argAt,
                  {c.name, fn.name, "a number", "a string"});
           return std::nullopt;
         }
@@ -188,7 +219,7 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
           std::vector<int64_t> declared;
           for (const auto &d : c.dims)
             declared.push_back(d->kind == ast::ExprKind::Colon ? 0 : -1);
-          report(DiagId::ErrArgumentType, SourceRange{arg->loc, arg->length},
+          report(DiagId::ErrArgumentType, argAt,
                  {c.name, fn.name,
                   c.dims.empty() ? "a scalar"
                                  : "an array of " + std::to_string(c.dims.size()) +
@@ -664,7 +695,7 @@ Flattener::functionParts(const ast::ClassDef &fn, SourceRange where) {
 std::optional<std::vector<Value>> Flattener::vectorizedCall(
     const ast::ClassDef &fn, const ast::Expr &call, const Scope &scope,
     Env *env, const std::vector<const ast::Component *> &inputs,
-    const std::vector<std::optional<Value>> &args,
+    const std::vector<CallArgument> &args,
     const std::vector<int64_t> &over) {
   int64_t count = 1;
   for (int64_t d : over)
@@ -672,13 +703,15 @@ std::optional<std::vector<Value>> Flattener::vectorizedCall(
   std::vector<Value> results;
   for (int64_t i = 0; i < count; ++i) {
     // Element i of each mapped argument, the others whole.
-    std::vector<std::optional<Value>> one(args.size());
+    std::vector<CallArgument> one(args.size());
     for (size_t k = 0; k < args.size(); ++k) {
-      if (!args[k])
+      if (!args[k].value) {
+        one[k] = args[k];
         continue;
-      const Value &v = *args[k];
+      }
+      const Value &v = *args[k].value;
       if (v.isString || v.shape.size() <= inputs[k]->dims.size()) {
-        one[k] = v;
+        one[k] = args[k];
         continue;
       }
       Value e;
@@ -687,7 +720,7 @@ std::optional<std::vector<Value>> Flattener::vectorizedCall(
       size_t n = v.elems.size() / static_cast<size_t>(count);
       e.elems.assign(v.elems.begin() + static_cast<std::ptrdiff_t>(i * n),
                      v.elems.begin() + static_cast<std::ptrdiff_t>((i + 1) * n));
-      one[k] = std::move(e);
+      one[k].value = std::move(e);
     }
     std::optional<std::vector<Value>> outs =
         inlineCall(fn, call, scope, env, &one);
@@ -711,6 +744,74 @@ std::optional<std::vector<Value>> Flattener::vectorizedCall(
     }
   }
   return results;
+}
+
+const ast::ClassDef *Flattener::functionTypeOf(const ast::Name &type,
+                                               const ast::ClassDef &in) {
+  if (!type.global && type.parts.size() == 1 &&
+      (type.parts[0] == "Real" || type.parts[0] == "Integer" ||
+       type.parts[0] == "Boolean" || type.parts[0] == "String"))
+    return nullptr;
+  const ast::ClassDef *cls =
+      classes_.resolveClass(type, &in, in.file, /*report=*/false);
+  return cls && cls->kind == ast::ClassKind::Function ? cls : nullptr;
+}
+
+std::optional<FunctionValue>
+Flattener::functionArgument(const ast::Expr &e, const Scope &scope, Env *env) {
+  SourceRange at{e.loc, e.length};
+  if (e.kind == ast::ExprKind::Ref && e.parts.size() == 1 &&
+      e.parts[0].subscripts.empty() && env)
+    if (const FunctionValue *f = env->findFunction(e.parts[0].name))
+      return *f;
+  bool named = e.kind == ast::ExprKind::Ref ||
+               (e.kind == ast::ExprKind::Call && e.partialApplication);
+  if (!named) {
+    report(DiagId::ErrUnsupported, at,
+           {"this argument for an input of a function type (a function's "
+            "name or `function f(a = ...)` is)"});
+    return std::nullopt;
+  }
+  ast::Name fname = e.kind == ast::ExprKind::Call ? e.calleeName() : ast::Name{};
+  if (e.kind == ast::ExprKind::Ref) {
+    fname.global = e.global;
+    for (const ast::RefPart &p : e.parts)
+      fname.parts.push_back(p.name);
+    fname.loc = e.loc;
+    fname.length = e.length;
+  }
+  uint32_t file = scope.cls ? scope.cls->file : e.loc.file;
+  const ast::ClassDef *fn =
+      classes_.resolveClass(fname, e.global ? nullptr : scope.cls, file);
+  for (unsigned guard = 0; fn && fn->isShort && guard < 16; ++guard)
+    fn = classes_.resolveClass(fn->shortBase, fn->parent, fn->file);
+  if (!fn)
+    return std::nullopt;
+  if (fn->kind != ast::ClassKind::Function) {
+    report(DiagId::ErrNotAFunction, SourceRange{fname.loc, fname.length},
+           {fname.str(), ast::classKindName(fn->kind)});
+    return std::nullopt;
+  }
+  std::optional<FunctionParts> parts = functionParts(*fn, at);
+  if (!parts)
+    return std::nullopt;
+  FunctionValue f;
+  f.fn = fn;
+  for (const ast::Arg &a : e.args) {
+    bool input = std::any_of(
+        parts->comps.begin(), parts->comps.end(),
+        [&](const ast::Component *c) { return isInput(*c) && c->name == a.name; });
+    if (!input) {
+      report(DiagId::ErrNoSuchInput, SourceRange{a.value->loc, a.value->length},
+             {fn->name, a.name});
+      return std::nullopt;
+    }
+    std::optional<Value> v = lower(*a.value, scope, env);
+    if (!v)
+      return std::nullopt;
+    f.bound.emplace_back(a.name, std::move(*v));
+  }
+  return f;
 }
 
 bool Flattener::isNumericType(const ast::Name &type, const ast::ClassDef &in) {

@@ -9,6 +9,14 @@
 
 namespace ldae::frontend {
 
+const FunctionValue *Env::findFunction(const std::string &name) const {
+  for (const Env *e = this; e; e = e->parent)
+    for (const auto &[n, f] : e->functions)
+      if (n == name)
+        return &f;
+  return nullptr;
+}
+
 Value *Env::find(const std::string &name) {
   for (Env *e = this; e; e = e->parent)
     for (auto &[n, v] : e->vars)
