@@ -1,8 +1,9 @@
 // Pass "prune": with requested outputs, keeps only the unknowns and
 // residuals they depend on: the residual solving each needed unknown (in
 // every state set), everything that residual reads, and for a state the
-// residual giving its derivative, transitively. The result compiles only
-// what the outputs need.
+// residual giving its derivative, transitively. What events and the
+// run-time state choice (pivots, dynamic state sets) read is kept whatever
+// the outputs. The result compiles only what the outputs need.
 #include "passes/Passes.h"
 #include "passes/Results.h"
 #include "passes/SystemStructure.h"
@@ -49,6 +50,27 @@ bool PrunePass::runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt) {
       want(layout0.read(k).unknown);
   for (const ir::ReinitUpdate &r : sys.events.reinits)
     want(static_cast<int>(r.unknown));
+  // What the run-time state choice reads stays too: a state set's pivot
+  // (over its own keys), and a dynamic set's states, its Jacobian and its
+  // candidates with their derivatives (over set 0's, as code generation
+  // reads them), whether or not the outputs need that part of the model.
+  // The walk below then keeps the rows that determine them.
+  for (size_t set = 0; set < sys.stateSets.size(); ++set) {
+    SystemLayout layout(sys, set);
+    for (ir::ExprRef e : sys.stateSets[set].pivot)
+      for (ir::VarKey k : variablesOf(e))
+        want(layout.read(k).unknown);
+  }
+  for (const ir::DynamicStateSet &ds : sys.dynamicSets) {
+    for (ir::VarKey s : ds.states)
+      for (size_t u = 0; u < n; ++u)
+        if (sys.unknowns[u].key == s)
+          want(static_cast<int>(u));
+    for (const std::vector<ir::ExprRef> *es : {&ds.jacobian, &ds.values})
+      for (ir::ExprRef e : *es)
+        for (ir::VarKey k : variablesOf(e))
+          want(layout0.read(k).unknown);
+  }
   std::vector<graph::BipartiteGraph> reads;
   for (size_t set = 0; set < sys.stateSets.size(); ++set)
     reads.push_back(systemGraph(sys, set, blt.reads[set], false));
@@ -77,8 +99,11 @@ bool PrunePass::runOn(PassContext &ctx, ir::DaeSystem &sys, BltResult &blt) {
     kept.pivotSize = st.pivotSize;
     kept.pivot = st.pivot;
     for (size_t u = 0; u < n; ++u)
-      if (need[u])
+      if (need[u]) {
         kept.differential.push_back(st.differential[u]);
+        if (!st.keys.empty())
+          kept.keys.push_back(st.keys[u]);
+      }
     for (size_t r = 0; r < st.residuals.size(); ++r) {
       int u = blt.matchings[set].rowMate[r];
       if (u < 0 || !need[u])
