@@ -20,6 +20,7 @@
 // agree on. Nothing is decided from syntactic zeros. See docs/indices.md.
 #include "passes/FormalIndex.h"
 #include "passes/ManifoldSampler.h"
+#include "passes/PassContext.h"
 #include "passes/Passes.h"
 
 #include "ir/Differentiate.h"
@@ -309,6 +310,10 @@ FormalIndexResult formalIndex(const ir::Model &model, size_t maxCoordinates) {
   FormalIndexResult out;
   if (jet.unknowns.empty() || model.equations.empty())
     out.reason = "no equations over unknowns";
+  else if (std::string c = externalOfUnknowns(model); !c.empty())
+    out.reason = "the model calls the external function '" + c +
+                 "' at values of its unknowns, and C code is called only at "
+                 "points a run reaches";
   else if (coordinates > maxCoordinates)
     out.reason = std::to_string(coordinates) +
                  " jet coordinates, above the dense limit of " +

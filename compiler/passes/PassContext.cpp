@@ -1,6 +1,8 @@
 // Helpers shared by the passes: locations and texts for messages, and the
 // start point at which value-dependent choices are made.
 #include "passes/PassContext.h"
+#include "ir/External.h"
+#include "ir/Query.h"
 #include "passes/Events.h"
 
 #include "ir/Print.h"
@@ -104,6 +106,17 @@ ir::EvalEnv PassContext::initializationEnv() const {
     return p < params.size() ? params[p] : 0.0;
   };
   return env;
+}
+
+/// The name of an external function an equation calls with arguments
+/// that read the unknowns or time, "" if none.
+std::string externalOfUnknowns(const ir::Model &m) {
+  for (const ir::Equation &eq : m.equations)
+    for (ir::ExprRef n : ir::topologicalOrder({&eq.residual, 1}))
+      if (n->kind() == ir::ExprKind::External &&
+          (!ir::freeVariables(n).empty() || ir::dependsOnTime(n)))
+        return ir::externalFunction(n->externalId()).name;
+  return "";
 }
 
 std::string quotedList(const std::vector<std::string> &items) {

@@ -85,6 +85,12 @@ bool diagnoseSingular(PassContext &ctx, const char *system,
                       const SingularityNames &names,
                       const std::vector<char> &colAllowed, bool record);
 
+/// The name of an external function an equation of `m` calls with
+/// arguments that read the unknowns or time, "" if none: the passes that
+/// judge a model at points a run does not reach (random points, the SGA's
+/// sampling) do not call C code there (it may not survive them).
+std::string externalOfUnknowns(const ir::Model &m);
+
 /// Lists `items` as `'a', 'b' and 'c'` (quoted).
 std::string quotedList(const std::vector<std::string> &items);
 /// The first of `items` quoted (at most 8), then "(and N more)" of

@@ -9,7 +9,6 @@
 // structural index reduction chose: where they differ, structure was
 // fooled (cancellation, a singular derivative matrix) and the SGA's count
 // stands in the report.
-#include "ir/External.h"
 #include "passes/Events.h"
 #include "passes/Passes.h"
 #include "passes/Results.h"
@@ -188,17 +187,6 @@ public:
 private:
   bool always_; // the sga and ode methods: no size limit
 };
-
-/// The name of an external function an equation calls with arguments
-/// that read the unknowns or time, "" if none.
-std::string externalOfUnknowns(const ir::Model &m) {
-  for (const ir::Equation &eq : m.equations)
-    for (ir::ExprRef n : ir::topologicalOrder({&eq.residual, 1}))
-      if (n->kind() == ir::ExprKind::External &&
-          (!ir::freeVariables(n).empty() || ir::dependsOnTime(n)))
-        return ir::externalFunction(n->externalId()).name;
-  return "";
-}
 
 bool SgaPass::runOn(PassContext &ctx, const EventResult &ev, SgaResult &out,
                     ir::DaeSystem &sys) {
