@@ -128,8 +128,6 @@ private:
                              const CVal &b);
   std::optional<CVal> constant(const ast::Expr &e);
   std::optional<int64_t> shapeInteger(const ast::Expr &e);
-  /// `v` computed once into a temporary (a copy for arrays).
-  CVal materialize(const CVal &v);
   const Var *findVar(const std::string &name) const;
   std::string temp() { return "t" + std::to_string(temps_++); }
   bool unsupported(const ast::Expr &e, const std::string &what);
@@ -536,19 +534,6 @@ std::optional<std::string> FunctionTranslator::scalar(const ast::Expr &e) {
     return std::nullopt;
   }
   return v->at("0");
-}
-
-FunctionTranslator::CVal FunctionTranslator::materialize(const CVal &v) {
-  std::string t = temp();
-  if (v.scalar()) {
-    *frame_->pre << "  double " << t << " = " << v.at("0") << ";\n";
-    return CVal{{}, [t](const std::string &) { return t; }};
-  }
-  std::string n = std::to_string(countOf(v.shape));
-  *frame_->pre << "  double " << t << "[" << std::max<int64_t>(1, countOf(v.shape))
-               << "];\n  for (long k = 0; k < " << n << "; ++k) " << t
-               << "[k] = " << v.at("k") << ";\n";
-  return CVal{v.shape, [t](const std::string &k) { return t + "[" + k + "]"; }};
 }
 
 std::optional<FunctionTranslator::CVal>
