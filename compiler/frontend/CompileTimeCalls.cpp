@@ -19,6 +19,7 @@
 // a String is a text known when compiling, so the call is made now too,
 // with arguments known now.
 #include "frontend/Flattener.h"
+#include "support/ModelicaErrorMessage.h"
 
 #include <cmath>
 
@@ -64,6 +65,14 @@ std::vector<Value> Flattener::constantOutputs(
   return results;
 }
 
+bool Flattener::succeeded(const ast::ClassDef &fn, SourceRange at) {
+  std::string error = takeModelicaError();
+  if (error.empty())
+    return true;
+  report(DiagId::ErrExternalFailed, at, {fn.name, error});
+  return false;
+}
+
 std::optional<std::vector<Value>> Flattener::impureCall(
     const ast::ClassDef &fn, ir::ExternalEntry entry,
     const std::vector<ir::ExprRef> &in,
@@ -75,6 +84,8 @@ std::optional<std::vector<Value>> Flattener::impureCall(
     return std::nullopt;
   std::vector<double> out(std::max<size_t>(numOut, 1), 0.0);
   entry(args->data(), out.data());
+  if (!succeeded(fn, at))
+    return std::nullopt;
   return constantOutputs(outputs, outOffset, out, fenv);
 }
 
@@ -96,6 +107,8 @@ std::optional<std::vector<Value>> Flattener::stringCall(
     return std::nullopt;
   std::vector<double> out(std::max<size_t>(numOut, 1), 0.0);
   const char *text = entry(args->data(), out.data());
+  if (!succeeded(fn, at))
+    return std::nullopt;
   std::vector<const ast::Component *> numeric;
   for (const ast::Component *c : outputs)
     if (c != returned)

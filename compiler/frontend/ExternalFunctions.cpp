@@ -189,7 +189,6 @@ std::string loadLibraries(const ast::ClassDef &fn, const std::string &sources,
   // ldaec's ModelicaUtilities first, then the libraries in reverse order:
   // each one's symbols are global before a library that calls them loads.
   std::vector<CBuild> builds;
-  bool needsUtilities = false;
   for (auto it = names.rbegin(); it != names.rend(); ++it) {
     const std::string &name = *it;
     if (name == "zlib" || name == "m") {
@@ -210,13 +209,12 @@ std::string loadLibraries(const ast::ClassDef &fn, const std::string &sources,
     lib.defines.push_back("DUMMY_FUNCTION_USERTAB=1");
     lib.libraries = {"z", "m"};
     builds.push_back(std::move(lib));
-    needsUtilities = true;
   }
-  if (needsUtilities) {
-    CBuild utilities;
-    utilities.source = modelicaUtilitiesSource();
-    builds.insert(builds.begin(), std::move(utilities));
-  }
+  // Every wrapper reads its guard there, and any C code may call
+  // ModelicaError (MLS 12.9.6).
+  CBuild utilities;
+  utilities.source = modelicaUtilitiesSource();
+  builds.insert(builds.begin(), std::move(utilities));
   for (const CBuild &b : builds)
     if (auto handle = loadCBuild(b, cacheDir); !handle)
       return handle.error();
@@ -402,7 +400,8 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   // The wrapper: converts, calls, stores every output.
   std::vector<std::string> includes = annotationStrings(fn, "Include");
   std::ostringstream src;
-  src << "#include <stdint.h>\n#include <stdlib.h>\n";
+  src << "#include <setjmp.h>\n#include <stdint.h>\n#include <stdlib.h>\n"
+      << "extern __thread jmp_buf *ldae_modelica_guard;\n";
   for (const std::string &inc : includes)
     src << inc << "\n";
   std::string ret = returned ? cName(*returnType) : "void";
@@ -452,6 +451,14 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       call += (i ? ", " : "") + v;
     }
     call += ")";
+    // A ModelicaError in the call jumps back here (ModelicaUtilitiesSource):
+    // every output NaN, the message kept for the report.
+    w << "  jmp_buf guard;\n  jmp_buf *outer = ldae_modelica_guard;\n"
+      << "  if (setjmp(guard)) {\n    ldae_modelica_guard = outer;\n"
+      << "    for (int i = 0; i < " << numOut
+      << "; ++i) out[i] = 0.0 / 0.0;\n    return"
+      << (stringResult ? " 0" : "") << ";\n  }\n"
+      << "  ldae_modelica_guard = &guard;\n";
     if (stringResult)
       w << "  const char *result = " << call << ";\n";
     else if (returned && *returnType == CType::Object)
@@ -460,6 +467,7 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       w << "  out[0] = (double)" << call << ";\n";
     else
       w << "  " << call << ";\n";
+    w << "  ldae_modelica_guard = outer;\n";
     for (size_t i = 0; i < args.size(); ++i)
       if (args[i].scratch)
         w << "  free(a" << i << ");\n";

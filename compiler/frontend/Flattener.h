@@ -438,6 +438,9 @@ public:
              const ast::Component *returned,
              const std::map<const ast::Component *, size_t> &outOffset,
              size_t numOut, Env &fenv, SourceRange at);
+  /// Whether the call of `fn` just made raised no ModelicaError; else
+  /// reports its message at `at`.
+  bool succeeded(const ast::ClassDef &fn, SourceRange at);
   /// The values of `in` now, or a located error naming `fn`.
   std::optional<std::vector<double>>
   argumentsNow(const ast::ClassDef &fn, const std::vector<ir::ExprRef> &in,

@@ -1,20 +1,36 @@
 // The C text of ldaec's ModelicaUtilities.h callbacks (MLS 12.9.6), compiled
 // into every shared object of the Modelica libraries' C sources
 // (ExternalLibraries.h), so no symbol of the ldaec process needs exporting.
-// ModelicaError and its formatting variants end the call through the hook
-// ldaec sets after loading (`ldae_modelica_error`): they never return.
+// ModelicaError and its formatting variants never return: they keep the
+// message (per thread) and jump back to the wrapper that made the call
+// (`ldae_modelica_guard`, set by every wrapper ExternalFunctions.cpp
+// generates), which returns NaN outputs, so the call is a domain error of
+// its equation and the run ends located, with its rows, or the compiler
+// reports the call. `ldae_modelica_take_error` hands the message to whoever
+// reports it (ir/External.h, the runtime's failure report).
 #include "frontend/ExternalLibraries.h"
 
 namespace ldae::frontend {
 
 const char *modelicaUtilitiesSource() {
   return R"C(
+#include <setjmp.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-void (*ldae_modelica_error)(const char *message) = 0;
+__thread jmp_buf *ldae_modelica_guard = 0;
+static __thread char ldae_modelica_text[2048];
+static __thread int ldae_modelica_pending = 0;
+
+/* The message of the last ModelicaError on this thread, once; 0 if none. */
+const char *ldae_modelica_take_error(void) {
+  if (!ldae_modelica_pending)
+    return 0;
+  ldae_modelica_pending = 0;
+  return ldae_modelica_text;
+}
 
 static void ldae_report(const char *kind, const char *text) {
   fprintf(stderr, "%s%s\n", kind, text);
@@ -45,8 +61,11 @@ void ModelicaFormatWarning(const char *format, ...) {
   va_end(args);
 }
 void ModelicaError(const char *string) {
-  if (ldae_modelica_error)
-    ldae_modelica_error(string);
+  snprintf(ldae_modelica_text, sizeof ldae_modelica_text, "%s", string);
+  ldae_modelica_pending = 1;
+  if (ldae_modelica_guard)
+    longjmp(*ldae_modelica_guard, 1);
+  /* Not under a wrapper: nothing to return to. */
   ldae_report("ldaec: error: ", string);
   exit(3);
 }

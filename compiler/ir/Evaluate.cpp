@@ -7,6 +7,7 @@
 #include "ir/External.h"
 #include "ir/NodeMap.h"
 #include "ir/Print.h"
+#include "support/ModelicaErrorMessage.h"
 
 #include <cmath>
 #include <limits>
@@ -221,8 +222,11 @@ private:
       if (!f.entry)
         return fail(e, "cannot evaluate: '" + f.name + "' is not loaded");
       double r = callExternal(e->externalId(), in.data(), e->externalOutput());
-      if (std::isnan(r))
-        return fail(e, "'" + f.name + "' returned NaN");
+      if (std::isnan(r)) {
+        std::string error = takeModelicaError();
+        return fail(e, error.empty() ? "'" + f.name + "' returned NaN"
+                                     : "'" + f.name + "' failed: " + error);
+      }
       done(e, r);
       return true;
     }

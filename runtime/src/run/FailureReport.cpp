@@ -2,6 +2,7 @@
 #include "run/FailureReport.h"
 #include "init/ConsistentInit.h"
 #include "numeric/Rank.h"
+#include "support/ModelicaErrorMessage.h"
 
 #include <algorithm>
 #include <cmath>
@@ -250,13 +251,24 @@ std::string computedCause(const ModelEval &ev, double t, const double *y,
          sourceWithCaret(origin);
 }
 
+/// What external C code said when it failed (a ModelicaError), "" if
+/// nothing: its call's NaN is the domain error being described.
+std::string externalCodeMessage(std::string message) {
+  return message.empty() ? "" : "\n  the external C code reported: " + message;
+}
+
 std::string describeDomainRow(const ModelEval &ev, int set, int row,
                               const double *y, double t, const double *yp) {
   std::string msg = "\n  in " + ev.describeRow(row) +
                     sourceWithCaret(ev.origin(row));
+  std::string failed = takeModelicaError();
   if (!y)
-    return msg;
+    return msg + externalCodeMessage(failed);
   msg += computedCause(ev, t, y, yp);
+  // computedCause's evaluation at the failure point says it again, if so.
+  if (std::string again = takeModelicaError(); !again.empty())
+    failed = again;
+  msg += externalCodeMessage(failed);
   std::vector<int> cols = unknownsRead(ev, set, row);
   std::string values;
   for (size_t i = 0; i < cols.size() && i < kMaxValuesListed; ++i)
@@ -307,6 +319,7 @@ std::string describeOutputDomainError(const ModelEval &ev, int output,
                            : "";
   if (!origin.empty())
     msg += "\n  in the equation at " + origin + sourceWithCaret(origin);
+  msg += externalCodeMessage(takeModelicaError());
   // The integrator's unknowns it is computed from (all of them when few).
   if (ev.n() <= static_cast<int>(kMaxValuesListed)) {
     std::string values;
