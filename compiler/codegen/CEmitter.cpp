@@ -136,7 +136,12 @@ private:
           << ");\n";
       return;
     }
+    if (n.op == OpCode::ExtCall) {
+      printExternalCall(k);
+      return;
+    }
     switch (n.op) {
+    case OpCode::ExtArg: expr = a; break;
     case OpCode::Add: expr = a + " + " + b; break;
     case OpCode::Sub: expr = a + " - " + b; break;
     case OpCode::Mul: expr = a + " * " + b; break;
@@ -225,6 +230,33 @@ private:
     os_ << "  const int e" << k << " = " << e << ";\n";
   }
 
+  /// `void symbol(const double *in, double *out)` on local arrays; as the
+  /// JIT does, only where its guard holds when it has one (sub = 1: a
+  /// branch taken), tables keeping state between calls. NaN is an error.
+  void printExternalCall(uint32_t k) {
+    const PlanNode &n = fn_.nodes[k];
+    const PlanExternal &x = fn_.externals[n.index];
+    std::vector<uint32_t> args = externalArguments(fn_.nodes, k);
+    std::string v = "v" + std::to_string(k);
+    os_ << "  double " << v << " = 0.0;\n";
+    os_ << (n.sub == 1 ? "  if (" + ref(n.b) + " != 0.0) {\n" : "  {\n");
+    os_ << "    double in[" << std::max<size_t>(1, args.size()) << "] = {";
+    for (size_t i = 0; i < args.size(); ++i)
+      os_ << (i ? ", " : "") << ref(args[i]);
+    if (args.empty())
+      os_ << "0.0";
+    os_ << "};\n    double out[" << std::max(1u, x.numOutputs) << "];\n"
+        << "    " << x.symbol << "(in, out);\n"
+        << "    " << v << " = out[" << uint32_t(n.value) << "];\n  }\n";
+    if (!n.mayFail)
+      return;
+    std::string e = "(" + v + " != " + v + ")";
+    for (unsigned i = 0; i < numOperands(n.op); ++i)
+      if (fn_.nodes[n.operand(i)].mayFail)
+        e += " | " + err(n.operand(i));
+    os_ << "  const int e" << k << " = " << e << ";\n";
+  }
+
   std::ostream &os_;
   const PlanFunction &fn_;
   const PlanChunk &chunk_;
@@ -254,7 +286,7 @@ std::string exportedParams(FnSig sig) {
 template <typename T, typename F>
 void printArray(std::ostream &os, const std::string &type,
                 const std::string &name, const std::vector<T> &values,
-                F format);
+                F format, const char *storage = "static const ");
 
 /// The non-affine index columns of a loop as static tables, for
 /// printLoopHeader.
@@ -374,19 +406,77 @@ void printFunction(std::ostream &os, const CodePlan &plan,
   os << "  return rc;\n}\n\n";
 }
 
+/// The shared objects of the external functions the plan calls, each
+/// once, by path (the program loads them from where ldaec built them), in
+/// the order the linker needs: an object before those it uses, the reverse
+/// of the load order (ExternalLibraries.h). Each function's objects come in
+/// load order, so the first occurrences of all of them are in load order.
+std::string linkedObjects(const CodePlan &plan) {
+  std::vector<std::string> loadOrder;
+  for (const PlanExternal &x : plan.externals)
+    for (const std::string &o : x.objects)
+      if (std::find(loadOrder.begin(), loadOrder.end(), o) == loadOrder.end())
+        loadOrder.push_back(o);
+  std::string list;
+  for (auto it = loadOrder.rbegin(); it != loadOrder.rend(); ++it)
+    list += " " + *it;
+  return list;
+}
+
 /// The command that builds the program of `--emit c --main` from
 /// `<sym>.c`: the runtime library of the ldaec that wrote it.
-std::string mainCompileCommand(const std::string &sym) {
+std::string mainCompileCommand(const CodePlan &plan) {
+  const std::string &sym = plan.symbolName;
   std::string lib = LDAE_RUNTIME_LIBDIR;
-  return "cc " LDAE_MAIN_CFLAGS " " + sym + ".c -L" + lib +
-         " -lldaert -Wl,-rpath," + lib + " -lm -o " + sym;
+  return "cc " LDAE_MAIN_CFLAGS " " + sym + ".c" + linkedObjects(plan) +
+         " -L" + lib + " -lldaert -Wl,-rpath," + lib + " -lm -o " + sym;
+}
+
+/// The external functions' declarations (their wrappers' one signature).
+void printExternalDeclarations(std::ostream &os, const CodePlan &plan) {
+  std::vector<std::string> seen;
+  for (const PlanExternal &x : plan.externals)
+    if (std::find(seen.begin(), seen.end(), x.symbol) == seen.end()) {
+      seen.push_back(x.symbol);
+      os << "void " << x.symbol << "(const double *in, double *out);\n";
+    }
+  if (!seen.empty())
+    os << "\n";
+}
+
+/// `int <sym>_make_objects(void)`: calls the constructors of the model's
+/// external objects (CodePlan::objects) over the parameters and stores the
+/// handles among them; 0, or 1 + the object that failed (its message on
+/// stderr). A handle is a pointer of the process that made it, so the
+/// compiled values are replaced before the model is used.
+void printMakeObjects(std::ostream &os, const CodePlan &plan) {
+  const std::string &s = plan.symbolName;
+  printArray(os, "int", s + "_object_params", plan.objectParams,
+             [](int v) { return std::to_string(v); });
+  os << "const char *ldae_modelica_take_error(void);\n\n"
+     << "int " << s << "_make_objects(void) {\n"
+     << "  double made[" << plan.objectParams.size() << "];\n"
+     << "  int j, rc = " << functionSymbol(plan, plan.functions[plan.objects])
+     << "(0.0, " << s << "_start_y, " << s << "_start_yp, " << s
+     << "_param_values, made);\n"
+     << "  if (rc != 0) {\n"
+     << "    const char *why = ldae_modelica_take_error();\n"
+     << "    fprintf(stderr, \"error: the external object '%s' could not be "
+        "made%s%s\\n\",\n"
+     << "            " << s << "_param_names[" << s
+     << "_object_params[rc > 0 ? rc - 1 : 0]], why ? \": \" : \"\", why ? "
+        "why : \"\");\n"
+     << "    return rc > 0 ? rc : 1;\n  }\n"
+     << "  for (j = 0; j < " << plan.objectParams.size() << "; ++j)\n"
+     << "    " << s << "_param_values[" << s << "_object_params[j]] = made[j];\n"
+     << "  return 0;\n}\n\n";
 }
 
 template <typename T, typename F>
 void printArray(std::ostream &os, const std::string &type,
                 const std::string &name, const std::vector<T> &values,
-                F format) {
-  os << "static const " << type << " " << name << "[] = {";
+                F format, const char *storage) {
+  os << storage << type << " " << name << "[] = {";
   if (values.empty())
     os << "0"; // C has no empty arrays
   for (size_t i = 0; i < values.size(); ++i)
@@ -519,18 +609,28 @@ std::string printC(const CodePlan &plan, bool withMain) {
   const std::string &s = plan.symbolName;
   os << "/* Generated by ldaec from model " << quote(plan.name)
      << ": the C ABI of ldae/model.h";
+  const bool objects = plan.objects >= 0;
   if (withMain)
     os << ",\n   and a main that runs it with the ldaec runtime (ldae/run.h, "
           "libldaert).\n   Compile (docs/embedding-c.md):\n     "
-       << mainCompileCommand(s) << "\n   ./" << s
+       << mainCompileCommand(plan) << "\n   ./" << s
        << " --help lists its options. */\n";
   else
-    os << ".\n   Compile: cc -O2 -c " << s
-       << ".c (see docs/embedding-c.md). */\n";
-  os << "#include <math.h>\n#include <stdlib.h>\n#include <string.h>\n\n"
+    os << ".\n   Compile: cc -O2 -c " << s << ".c"
+       << (plan.externals.empty()
+               ? ""
+               : " and link the program with" + linkedObjects(plan) +
+                     (objects ? "; call " + s +
+                                    "_make_objects() once before using the "
+                                    "model"
+                              : ""))
+       << " (see docs/embedding-c.md). */\n";
+  os << "#include <math.h>\n" << (objects ? "#include <stdio.h>\n" : "")
+     << "#include <stdlib.h>\n#include <string.h>\n\n"
      << kModelHeaderText << "\n";
   if (withMain)
     os << kRunHeaderText << "\n";
+  printExternalDeclarations(os, plan);
   for (const PlanFunction &fn : plan.functions)
     printFunction(os, plan, fn);
 
@@ -543,7 +643,11 @@ std::string printC(const CodePlan &plan, bool withMain) {
   printArray(os, "double", s + "_nominal", plan.nominal, dbl);
   printArray(os, "int", s + "_fixed", plan.fixed, integer);
   printArray(os, "char *const", s + "_param_names", plan.paramNames, str);
-  printArray(os, "double", s + "_param_values", plan.paramValues, dbl);
+  // The handles of external objects are stored at run time.
+  printArray(os, "double", s + "_param_values", plan.paramValues, dbl,
+             objects ? "static " : "static const ");
+  if (objects)
+    printMakeObjects(os, plan);
   printArray(os, "char *const", s + "_output_names", plan.outputNames, str);
   if (!plan.residualOrigin.empty())
     printArray(os, "char *const", s + "_residual_origin", plan.residualOrigin,
@@ -648,6 +752,8 @@ std::string printC(const CodePlan &plan, bool withMain) {
      << "; }\n";
   if (withMain)
     os << "\nint main(int argc, char **argv) {\n"
+       << (objects ? "  if (" + s + "_make_objects() != 0)\n    return 3;\n"
+                   : "")
        << "  return ldae_main(&ldae_model_" << s << ", argc, argv);\n}\n";
   return os.str();
 }

@@ -131,6 +131,8 @@ struct PlanExternal {
   /// Where the loaded wrapper is in this process (0 when not loaded: the
   /// C emitter needs only the symbol).
   uintptr_t address = 0;
+  /// The shared objects an emitted program links for it, in load order.
+  std::vector<std::string> objects;
 };
 
 struct PlanFunction {
@@ -292,6 +294,15 @@ struct CodePlan {
   /// time (directly or through a parameter bound to it), 2 for a constant
   /// (ldae_model::param_structural).
   std::vector<int> structuralParams;
+
+  /// External objects (MLS 12.9.7) for a program of its own (--emit c):
+  /// `objects` (FnSig::Values; -1 when there are none) calls the
+  /// constructor of parameter objectParams[j] over p and writes the new
+  /// handle at out[j], made before anything runs. `unmadeObject` names a
+  /// handle with no constructor call to make it again ("" when none).
+  int objects = -1;
+  std::vector<int> objectParams;
+  std::string unmadeObject;
 
   EventPlan events;
 

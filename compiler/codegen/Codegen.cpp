@@ -123,10 +123,9 @@ Expected<std::string> emitC(const ir::DaeSystem &sys, bool withMain,
   auto plan = lowerToPlan(sys, planOptions(opts));
   if (!plan)
     return Error{plan.error()};
-  // The C file would have to build and link the user's C libraries itself.
-  if (!plan->externals.empty())
-    return Error{"external function '" + plan->externals[0].name +
-                 "' is not supported in --emit c"};
+  if (!plan->unmadeObject.empty())
+    return Error{"the external object '" + plan->unmadeObject +
+                 "' cannot be made again by an emitted program"};
   return printC(*plan, withMain);
 }
 

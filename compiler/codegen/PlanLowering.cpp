@@ -682,6 +682,29 @@ static std::vector<ExprRef> planBindings(const ir::DaeSystem &sys,
   return values;
 }
 
+/// The constructor calls of the model's external objects (see
+/// CodePlan::objects) in order of their parameters, filling objectParams.
+static std::vector<ExprRef> planObjects(const ir::DaeSystem &sys,
+                                        CodePlan &plan) {
+  std::vector<ExprRef> calls;
+  if (!sys.model)
+    return calls;
+  const std::vector<ir::Parameter> &params = sys.model->parameters;
+  for (unsigned p = 0; p < params.size() && p < plan.paramValues.size(); ++p) {
+    if (!params[p].externalObject)
+      continue;
+    ExprRef b = params[p].binding;
+    if (!ir::isConstructorCall(b)) {
+      if (plan.unmadeObject.empty())
+        plan.unmadeObject = params[p].name;
+      continue;
+    }
+    plan.objectParams.push_back(p);
+    calls.push_back(b);
+  }
+  return calls;
+}
+
 /// The CSC pattern (n columns) of entries in CSC order.
 void cscPattern(const std::vector<JacEntry> &entries, unsigned n,
                 std::vector<int> &colptr, std::vector<int> &rowind) {
@@ -744,7 +767,7 @@ void numberExternals(CodePlan &plan) {
         const ir::ExternalFunction &f = ir::externalFunction(uint32_t(n.index));
         plan.externals.push_back(
             {f.symbol, f.name, f.numInputs, f.numOutputs,
-             reinterpret_cast<uintptr_t>(f.entry)});
+             reinterpret_cast<uintptr_t>(f.entry), f.objects});
       }
       n.index = it->second;
     }
@@ -1017,6 +1040,8 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
     plan.events.asserts = valuesFunction("asserts", events.asserts, keys);
   if (std::vector<ExprRef> values = planBindings(sys, plan); !values.empty())
     plan.bind = valuesFunction("bind", values, keys);
+  if (std::vector<ExprRef> calls = planObjects(sys, plan); !calls.empty())
+    plan.objects = valuesFunction("objects", calls, keys);
 
   if (!error.empty())
     return Error{error};

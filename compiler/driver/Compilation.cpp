@@ -89,34 +89,14 @@ bool Compilation::parse() {
 }
 
 namespace {
-/// The first equation, assert or when-clause of `flat` that calls an
-/// external function (their IR nodes carry no location of their own).
-std::optional<SourceLoc> firstExternalCall(const ir::Model &flat) {
-  if (!ir::anyExternal())
-    return std::nullopt;
-  auto calls = [](ir::ExprRef e) {
-    if (!e)
-      return false;
-    for (ir::ExprRef n : ir::topologicalOrder(std::span(&e, 1)))
-      if (n->kind() == ir::ExprKind::External)
-        return true;
-    return false;
-  };
-  for (const auto *list : {&flat.equations, &flat.initialEquations})
-    for (const ir::Equation &e : *list)
-      if (calls(e.residual))
-        return e.loc;
-  for (const ir::WhenClause &w : flat.whenClauses) {
-    if (calls(w.condition))
-      return w.loc;
-    for (const ir::Equation &e : w.equations)
-      if (calls(e.residual))
-        return e.loc;
-  }
+/// The first external object of `flat` whose handle was made when
+/// compiling other than by a call of its constructor (an emitted program
+/// cannot make it again: CodePlan::objects).
+const ir::Parameter *firstUnmadeObject(const ir::Model &flat) {
   for (const ir::Parameter &p : flat.parameters)
-    if (calls(p.binding))
-      return p.loc;
-  return std::nullopt;
+    if (p.externalObject && !ir::isConstructorCall(p.binding))
+      return &p;
+  return nullptr;
 }
 } // namespace
 
@@ -128,7 +108,8 @@ bool Compilation::analyze() {
     if (!request_.passes.reportOnly)
       flat_.emplace(*model_);
   }
-  externalCall_ = firstExternalCall(*model_);
+  if (const ir::Parameter *p = firstUnmadeObject(*model_))
+    unmadeObject_ = std::make_pair(p->loc, p->name);
   auto t0 = std::chrono::steady_clock::now();
   bool ok = passes::runPipeline(*model_, request_.passes, diags_, analysis_);
   if (request_.passes.timePasses && request_.passes.log)

@@ -85,9 +85,11 @@ public:
   /// Where a variable-structure model's if-equation is (for the error of
   /// `--emit c`); unset for one structure.
   std::optional<SourceLoc> variableStructure() const { return variableIf_; }
-  /// Where the flat model first calls an external C function (for the
-  /// error of `--emit c`); unset without one.
-  std::optional<SourceLoc> externalCall() const { return externalCall_; }
+  /// Where and which external object's handle an emitted program could
+  /// not make again (for the error of `--emit c`); unset without one.
+  std::optional<std::pair<SourceLoc, std::string>> unmadeObject() const {
+    return unmadeObject_;
+  }
   SourceManager &sources() { return sources_; }
   DiagnosticEngine &diagnostics() { return diags_; }
 
@@ -99,7 +101,7 @@ private:
   std::unique_ptr<ir::Model> model_;
   std::optional<ir::Model> flat_; // kept for the modes of a run
   std::optional<SourceLoc> variableIf_;
-  std::optional<SourceLoc> externalCall_;
+  std::optional<std::pair<SourceLoc, std::string>> unmadeObject_;
   passes::AnalysisResult analysis_;
   std::unique_ptr<codegen::CompiledModel> compiled_;
   std::optional<ModeCompiler> modes_;

@@ -189,9 +189,11 @@ static int run(int argc, char **argv) {
     c.diagnostics().flush(std::cerr);
     return 1;
   }
-  // The C file would have to build and link the user's C libraries itself.
-  if (opts.emit == driver::EmitKind::C && c.externalCall()) {
-    c.diagnostics().report(DiagId::ErrExternalC, *c.externalCall());
+  // The program makes the model's external objects again, by their
+  // constructors (CodePlan::objects).
+  if (opts.emit == driver::EmitKind::C && c.unmadeObject()) {
+    c.diagnostics().report(DiagId::ErrExternalObjectC, c.unmadeObject()->first,
+                           {c.unmadeObject()->second});
     c.diagnostics().flush(std::cerr);
     return 1;
   }

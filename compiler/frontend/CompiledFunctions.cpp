@@ -1145,13 +1145,13 @@ Flattener::compiledCall(const ast::ClassDef &fn, const FunctionParts &parts,
   CBuild build;
   build.source = source;
   build.libraries = {"m"};
-  auto handle = loadCBuild(build, opts_.cacheDir);
-  if (!handle) {
-    report(DiagId::ErrExternalBuild, at, {fn.name, handle.error()});
+  auto loaded = loadCBuild(build, opts_.cacheDir);
+  if (!loaded) {
+    report(DiagId::ErrExternalBuild, at, {fn.name, loaded.error()});
     return std::nullopt;
   }
   auto entry =
-      reinterpret_cast<ir::ExternalEntry>(dlsym(*handle, symbol.c_str()));
+      reinterpret_cast<ir::ExternalEntry>(dlsym(loaded->handle, symbol.c_str()));
   if (!entry) {
     report(DiagId::ErrExternalBuild, at, {fn.name, dlerror()});
     return std::nullopt;
@@ -1163,6 +1163,7 @@ Flattener::compiledCall(const ast::ClassDef &fn, const FunctionParts &parts,
   for (const auto &s : outputShapes)
     f.numOutputs += countOf(s);
   f.entry = entry;
+  f.objects = {loaded->path};
   uint32_t id = ir::registerExternal(f);
   std::vector<Value> results;
   unsigned base = 0;

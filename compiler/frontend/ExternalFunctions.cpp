@@ -181,10 +181,11 @@ Expected<std::string> libraryDirectory(const ast::ClassDef &fn,
 }
 
 /// Builds and loads the C libraries of `fn`'s Library annotation that
-/// ldaec compiles from sources; adds the others to `wrapper` (-l). Returns
-/// an error text, "" when all is well.
+/// ldaec compiles from sources, appending their files to `objects`; adds
+/// the others to `wrapper` (-l). Returns an error text, "" when all is well.
 std::string loadLibraries(const ast::ClassDef &fn, const std::string &sources,
-                          CBuild &wrapper, const std::string &cacheDir) {
+                          CBuild &wrapper, const std::string &cacheDir,
+                          std::vector<std::string> &objects) {
   std::vector<std::string> names = annotationStrings(fn, "Library");
   // ldaec's ModelicaUtilities first, then the libraries in reverse order:
   // each one's symbols are global before a library that calls them loads.
@@ -215,9 +216,12 @@ std::string loadLibraries(const ast::ClassDef &fn, const std::string &sources,
   CBuild utilities;
   utilities.source = modelicaUtilitiesSource();
   builds.insert(builds.begin(), std::move(utilities));
-  for (const CBuild &b : builds)
-    if (auto handle = loadCBuild(b, cacheDir); !handle)
-      return handle.error();
+  for (const CBuild &b : builds) {
+    auto loaded = loadCBuild(b, cacheDir);
+    if (!loaded)
+      return loaded.error();
+    objects.push_back(loaded->path);
+  }
   return "";
 }
 
@@ -493,17 +497,21 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   }
   if (!sources->empty())
     build.includeDirs.push_back(*sources);
-  if (std::string e = loadLibraries(fn, *sources, build, opts_.cacheDir);
+  std::vector<std::string> objects;
+  if (std::string e =
+          loadLibraries(fn, *sources, build, opts_.cacheDir, objects);
       !e.empty()) {
     report(DiagId::ErrExternalBuild, at, {fn.name, e});
     return std::nullopt;
   }
-  auto handle = loadCBuild(build, opts_.cacheDir);
-  if (!handle) {
-    report(DiagId::ErrExternalBuild, at, {fn.name, handle.error()});
+  auto loaded = loadCBuild(build, opts_.cacheDir);
+  if (!loaded) {
+    report(DiagId::ErrExternalBuild, at, {fn.name, loaded.error()});
     return std::nullopt;
   }
-  auto entry = reinterpret_cast<ir::ExternalEntry>(dlsym(*handle, symbol.c_str()));
+  objects.push_back(loaded->path);
+  auto entry =
+      reinterpret_cast<ir::ExternalEntry>(dlsym(loaded->handle, symbol.c_str()));
   if (!entry) {
     report(DiagId::ErrExternalBuild, at, {fn.name, dlerror()});
     return std::nullopt;
@@ -519,6 +527,9 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   f.numInputs = in.size();
   f.numOutputs = numOut;
   f.entry = entry;
+  f.objects = std::move(objects);
+  f.constructor = fn.name == "constructor" && fn.parent &&
+                  isExternalObject(*fn.parent);
   uint32_t id = ir::registerExternal(f);
 
   std::vector<Value> results;

@@ -158,12 +158,12 @@ std::string runCompiler(const std::vector<std::string> &args,
 
 } // namespace
 
-Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir) {
+Expected<LoadedC> loadCBuild(const CBuild &build, const std::string &cacheDir) {
   static std::mutex mutex; // one build of an entry at a time in a process
   std::lock_guard lock(mutex);
   // A build already loaded by this process (the same function called in
   // many places): its files are not read and hashed again.
-  static std::map<std::string, void *> loaded;
+  static std::map<std::string, LoadedC> loaded;
   std::string request = build.source + '\0' + cacheDir;
   for (const auto *list : {&build.files, &build.includeDirs, &build.libraries,
                            &build.defines})
@@ -219,8 +219,9 @@ Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir) {
   void *handle = dlopen(entry.c_str(), RTLD_NOW | RTLD_GLOBAL);
   if (!handle)
     return Error{std::string("cannot load the compiled C code: ") + dlerror()};
-  loaded.emplace(std::move(request), handle);
-  return handle;
+  LoadedC result{handle, entry};
+  loaded.emplace(std::move(request), result);
+  return result;
 }
 
 

@@ -29,11 +29,17 @@ struct CBuild {
 /// library that calls them.
 const char *modelicaUtilitiesSource();
 
+/// A shared object built and loaded.
+struct LoadedC {
+  void *handle = nullptr; // dlopen's
+  std::string path;       // the file: what an emitted program links
+};
+
 /// Builds `build` into a shared object, or finds it in `cacheDir` (a key
 /// over the sources, the flags and the compiler), and loads it with its
-/// symbols global (a later object may use them). Returns the dlopen handle;
-/// an error carries the compiler's first messages.
-Expected<void *> loadCBuild(const CBuild &build, const std::string &cacheDir);
+/// symbols global (a later object may use them). An error carries the
+/// compiler's first messages.
+Expected<LoadedC> loadCBuild(const CBuild &build, const std::string &cacheDir);
 
 /// The SHA-256 of `data` in hex (cache keys, unique C symbol names).
 std::string sha256Hex(const std::string &data);

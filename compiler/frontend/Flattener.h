@@ -142,6 +142,8 @@ struct InstNode {
   /// An enumeration type: the component is an Integer leaf whose values
   /// are its literals' positions, 1 ... n (MLS 4.9.5's Integer(e)).
   const ast::ClassDef *enumeration = nullptr;
+  /// An external object's handle (a Real leaf, ExternalObject.h).
+  bool externalObject = false;
   std::string typeName;
   bool isConnector = false;
   bool flow = false;

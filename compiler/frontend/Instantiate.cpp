@@ -244,6 +244,7 @@ bool Flattener::resolveType(InstNode &node) {
     }
     if (!cls->isShort && isExternalObject(*cls)) {
       node.builtin = BuiltinType::Real; // the handle (ExternalObject.h)
+      node.externalObject = true;
       break;
     }
     if (!cls->isShort) {
@@ -943,6 +944,7 @@ void Flattener::createParameter(InstNode &node, const std::string &name,
   p.isConstant = node.variability == ast::Variability::Constant;
   p.isInteger = node.builtin == BuiltinType::Integer;
   p.isBoolean = node.builtin == BuiltinType::Boolean;
+  p.externalObject = node.externalObject;
   std::string what = "value of '" + name + "'";
   bool haveValue = false;
   if (mod && mod->value) {

@@ -44,6 +44,11 @@ const ExternalFunction &externalFunction(uint32_t id) {
   return t.entries[id];
 }
 
+bool isConstructorCall(ExprRef e) {
+  return e && e->kind() == ExprKind::External &&
+         externalFunction(e->externalId()).constructor;
+}
+
 double callExternal(uint32_t id, const double *in, unsigned output) {
   const ExternalFunction &f = externalFunction(id);
   std::vector<double> out(f.numOutputs > 0 ? f.numOutputs : 1, 0.0);

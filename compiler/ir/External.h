@@ -8,8 +8,11 @@
 // holding the entries are.
 #pragma once
 
+#include "ir/Expr.h"
+
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ldae::ir {
 
@@ -20,7 +23,14 @@ struct ExternalFunction {
   std::string symbol; // the wrapper's C symbol (unique per wrapper text)
   unsigned numInputs = 0, numOutputs = 0; // doubles in, doubles out
   bool impure = false;
+  /// An external object's constructor (MLS 12.9.7): its result is a handle
+  /// valid in the process that made it, so a program that runs the model
+  /// elsewhere (--emit c) makes it again (codegen/PlanLowering.cpp).
+  bool constructor = false;
   ExternalEntry entry = nullptr;
+  /// The shared objects to link for the entry, in load order (each one's
+  /// symbols before the ones that use them), the wrapper's last.
+  std::vector<std::string> objects;
 };
 
 /// Registers `f` (or finds the entry with its symbol) and returns its id.
@@ -29,6 +39,9 @@ uint32_t registerExternal(const ExternalFunction &f);
 const ExternalFunction &externalFunction(uint32_t id);
 /// Whether any entry is registered (no External node exists without one).
 bool anyExternal();
+/// Whether `e` is a call of an external object's constructor: the binding
+/// of a handle that a program of its own (--emit c) can make again.
+bool isConstructorCall(ExprRef e);
 /// Calls entry `id` on `in` and returns output `output`.
 double callExternal(uint32_t id, const double *in, unsigned output);
 

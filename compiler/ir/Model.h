@@ -74,6 +74,9 @@ struct Parameter {
   std::string description; // the declaration's string comment, "" if none
   bool isInteger = false;
   bool isBoolean = false;
+  /// An external object's handle (MLS 12.9.7): a pointer valid in the
+  /// process that called its constructor (`binding`), not a number.
+  bool externalObject = false;
   /// The binding expression when it reads other parameters (null for a
   /// literal or a command-line override): `value` is its value, and an
   /// emitted program re-evaluates it when a parameter it reads is changed.
