@@ -119,14 +119,28 @@ Expected<std::string> emitLlvm(const ir::DaeSystem &sys,
 }
 
 Expected<std::string> emitC(const ir::DaeSystem &sys, bool withMain,
-                            const CodegenOptions &opts) {
+                            const CodegenOptions &opts,
+                            const std::vector<ModeSystem> &modes) {
   auto plan = lowerToPlan(sys, planOptions(opts));
   if (!plan)
     return Error{plan.error()};
   if (!plan->unmadeObject.empty())
     return Error{"the external object '" + plan->unmadeObject +
                  "' cannot be made again by an emitted program"};
-  return printC(*plan, withMain);
+  std::vector<ModePlan> modePlans;
+  for (const ModeSystem &m : modes) {
+    auto modePlan = lowerToPlan(*m.system, planOptions(opts));
+    if (!modePlan)
+      return Error{modePlan.error()};
+    // The start's model makes the objects and hands every mode the same
+    // handles, at the same parameters.
+    if (modePlan->objectParams != plan->objectParams)
+      return Error{"a mode's external objects differ from the start's"};
+    modePlan->symbolName =
+        plan->symbolName + "_mode" + std::to_string(modePlans.size());
+    modePlans.push_back({m.values, std::move(*modePlan)});
+  }
+  return printC(*plan, withMain, modePlans);
 }
 
 } // namespace ldae::codegen

@@ -76,10 +76,19 @@ compile(const ir::DaeSystem &sys, const CodegenOptions &opts = {});
 Expected<std::string> emitLlvm(const ir::DaeSystem &sys,
                                const CodegenOptions &opts = {});
 
+/// A mode of a variable-structure model to compile ahead: its mode values
+/// (ir::EventSystem::modeDiscrete order) and its reduced system.
+struct ModeSystem {
+  std::vector<double> values;
+  const ir::DaeSystem *system = nullptr;
+};
+
 /// `--emit c [--main]`: one self-contained C99 file; with `withMain` also a
 /// `main` handing the model to the runtime's ldae_main (libldaert), which
-/// runs it as `ldaec --simulate` does (docs/embedding-c.md).
+/// runs it as `ldaec --simulate` does (docs/embedding-c.md). The `modes` of
+/// a variable-structure model are compiled into it ahead.
 Expected<std::string> emitC(const ir::DaeSystem &sys, bool withMain,
-                            const CodegenOptions &opts = {});
+                            const CodegenOptions &opts = {},
+                            const std::vector<ModeSystem> &modes = {});
 
 } // namespace ldae::codegen

@@ -143,6 +143,28 @@ bool Compilation::compile() {
   return true;
 }
 
+Expected<std::string> Compilation::emitC(bool withMain, std::string &whyNot) {
+  codegen::CodegenOptions cg = request_.codegen;
+  cg.sources = &sources_;
+  const ir::EventSystem &events = analysis_.system->events;
+  if (events.modeDiscrete.empty() || !flat_)
+    return codegen::emitC(*analysis_.system, withMain, cg);
+  // The modes' own diagnostics (a structurally singular combination that
+  // no run reaches) are not the user's.
+  DiagnosticEngine modeDiags(sources_);
+  ModeCompiler modes(*flat_, request_.passes, cg, modeDiags);
+  auto all = modes.allModes(events);
+  if (!all) {
+    whyNot = all.error();
+    return std::string();
+  }
+  std::vector<codegen::ModeSystem> ahead;
+  for (const std::vector<double> &values : *all)
+    if (auto sys = modes.system(values))
+      ahead.push_back({values, *sys});
+  return codegen::emitC(*analysis_.system, withMain, cg, ahead);
+}
+
 Expected<runtime::SimResult>
 Compilation::simulate(runtime::SimOptions options) {
   if (modes_) {

@@ -70,6 +70,13 @@ public:
   /// options (exit 2); a numerical failure is status 3 in the result.
   Expected<runtime::SimResult> simulate(runtime::SimOptions options);
 
+  /// `--emit c [--main]` after analyze(): the C file. A variable-structure
+  /// model's modes are compiled into it ahead (every combination of its
+  /// mode values; one that cannot be analysed is left out, and a run that
+  /// reaches it ends with status 3); when they cannot be enumerated,
+  /// `whyNot` says why (the text is empty).
+  Expected<std::string> emitC(bool withMain, std::string &whyNot);
+
   /// The exit code of the stage that failed (0 while none did).
   int exitCode() const { return exitCode_; }
   const CompileRequest &request() const { return request_; }

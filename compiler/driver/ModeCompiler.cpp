@@ -3,6 +3,7 @@
 #include "ir/Query.h"
 
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -49,10 +50,10 @@ ModeCompiler::ModeCompiler(const ir::Model &flat,
   passOpts_.keepStateAliases = true;
 }
 
-Expected<const ldae_model *>
-ModeCompiler::model(const std::vector<double> &values) {
+Expected<ModeCompiler::Mode *>
+ModeCompiler::analyzed(const std::vector<double> &values) {
   if (auto it = modes_.find(values); it != modes_.end())
-    return &it->second.code->model();
+    return &it->second;
   auto t0 = std::chrono::steady_clock::now();
   Mode mode;
   mode.model = std::make_unique<ir::Model>(flat_);
@@ -67,15 +68,84 @@ ModeCompiler::model(const std::vector<double> &values) {
     text += diags_.render(diags_.diagnostics()[i]);
   if (!ok || !mode.analysis.system)
     return Error{fmt::format("the mode cannot be analysed:\n{}", text)};
-  auto code = codegen::compile(*mode.analysis.system, cgOpts_);
-  if (!code)
-    return Error{fmt::format("the mode cannot be compiled: {}", code.error())};
-  mode.code = std::move(*code);
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                             t0)
                   .count();
   auto [it, inserted] = modes_.emplace(values, std::move(mode));
-  return &it->second.code->model();
+  return &it->second;
+}
+
+Expected<const ldae_model *>
+ModeCompiler::model(const std::vector<double> &values) {
+  auto mode = analyzed(values);
+  if (!mode)
+    return Error{mode.error()};
+  Mode &m = **mode;
+  if (!m.code) {
+    auto t0 = std::chrono::steady_clock::now();
+    auto code = codegen::compile(*m.analysis.system, cgOpts_);
+    if (!code)
+      return Error{
+          fmt::format("the mode cannot be compiled: {}", code.error())};
+    m.code = std::move(*code);
+    seconds_ += std::chrono::duration<double>(
+                    std::chrono::steady_clock::now() - t0)
+                    .count();
+  }
+  return &m.code->model();
+}
+
+Expected<const ir::DaeSystem *>
+ModeCompiler::system(const std::vector<double> &values) {
+  auto mode = analyzed(values);
+  if (!mode)
+    return Error{mode.error()};
+  return &*(*mode)->analysis.system;
+}
+
+Expected<std::vector<std::vector<double>>>
+ModeCompiler::allModes(const ir::EventSystem &events) const {
+  std::vector<std::vector<double>> ranges;
+  size_t count = 1;
+  for (uint32_t k : events.modeDiscrete) {
+    const ir::DiscreteValue &d = events.discrete[k];
+    std::vector<double> range{0, 1}; // a Boolean, a relation
+    if (d.kind == ir::DiscreteKind::Variable) {
+      std::optional<ir::VarId> v = flat_.findVariable(d.name);
+      const ir::Variable *var = v ? &flat_.variables[*v] : nullptr;
+      if (var && var->isInteger) {
+        if (!std::isfinite(var->min) || !std::isfinite(var->max) ||
+            var->max - var->min >= double(kMaxModesAhead))
+          return Error{fmt::format(
+              "the mode value '{}' is an Integer without a range of at most "
+              "{} values (min and max)",
+              d.name, kMaxModesAhead)};
+        range.clear();
+        for (double x = var->min; x <= var->max; ++x)
+          range.push_back(x);
+      } else if (var && !var->isBoolean) {
+        return Error{fmt::format("the mode value '{}' is not a Boolean or an "
+                                 "Integer",
+                                 d.name)};
+      }
+    }
+    count *= range.size();
+    if (count > kMaxModesAhead)
+      return Error{fmt::format("the mode values {} give more than {} modes",
+                               events.modeDiscrete.size(), kMaxModesAhead)};
+    ranges.push_back(std::move(range));
+  }
+  std::vector<std::vector<double>> modes(1);
+  for (const std::vector<double> &range : ranges) {
+    std::vector<std::vector<double>> longer;
+    for (const std::vector<double> &m : modes)
+      for (double x : range) {
+        longer.push_back(m);
+        longer.back().push_back(x);
+      }
+    modes = std::move(longer);
+  }
+  return modes;
 }
 
 } // namespace ldae::driver

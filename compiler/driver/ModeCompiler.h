@@ -32,6 +32,16 @@ public:
 
   /// The compiled model of mode `values`, compiled on the first call.
   Expected<const ldae_model *> model(const std::vector<double> &values);
+  /// The reduced system of mode `values`, analysed on the first call.
+  Expected<const ir::DaeSystem *> system(const std::vector<double> &values);
+  /// Every mode a run could reach, for a program compiled ahead (--emit
+  /// c): each combination of the values the mode values of `events` can
+  /// take (a Boolean or a relation 0 and 1, an Integer its min to max). An
+  /// error names a mode value without a finite range, or says how many
+  /// more modes than kMaxModesAhead there would be.
+  Expected<std::vector<std::vector<double>>>
+  allModes(const ir::EventSystem &events) const;
+  static constexpr size_t kMaxModesAhead = 64;
   /// How many modes were compiled, and their total compile time.
   int compiled() const { return static_cast<int>(modes_.size()); }
   double seconds() const { return seconds_; }
@@ -40,8 +50,10 @@ private:
   struct Mode {
     std::unique_ptr<ir::Model> model; // the system points into it
     passes::AnalysisResult analysis;
-    std::unique_ptr<codegen::CompiledModel> code;
+    std::unique_ptr<codegen::CompiledModel> code; // null until compiled
   };
+  /// Mode `values`, analysed on the first call.
+  Expected<Mode *> analyzed(const std::vector<double> &values);
   ir::Model flat_;
   passes::PipelineOptions passOpts_;
   codegen::CodegenOptions cgOpts_;

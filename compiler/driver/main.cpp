@@ -182,13 +182,6 @@ static int run(int argc, char **argv) {
                : 1;
 
   // 3. Code generation: text, or a runnable model (JIT or interpreter).
-  if (opts.emit == driver::EmitKind::C &&
-      !analysis.system->events.modeDiscrete.empty()) {
-    c.diagnostics().report(DiagId::ErrVariableStructureC,
-                           c.variableStructure().value_or(SourceLoc{}));
-    c.diagnostics().flush(std::cerr);
-    return 1;
-  }
   // The program makes the model's external objects again, by their
   // constructors (CodePlan::objects).
   if (opts.emit == driver::EmitKind::C && c.unmadeObject()) {
@@ -197,14 +190,25 @@ static int run(int argc, char **argv) {
     c.diagnostics().flush(std::cerr);
     return 1;
   }
-  if (opts.emit == driver::EmitKind::Llvm ||
-      opts.emit == driver::EmitKind::C) {
+  if (opts.emit == driver::EmitKind::C) {
+    std::string whyNot;
+    Expected<std::string> text = c.emitC(opts.emitMain, whyNot);
+    if (!whyNot.empty()) {
+      c.diagnostics().report(DiagId::ErrVariableStructureC,
+                             c.variableStructure().value_or(SourceLoc{}),
+                             {whyNot});
+      c.diagnostics().flush(std::cerr);
+      return 1;
+    }
+    if (!text)
+      return reportError(c.diagnostics(), DiagId::ErrCodegenFailed,
+                         text.error(), 1);
+    return writeOutput(opts.outputFile, *text) ? 0 : 1;
+  }
+  if (opts.emit == driver::EmitKind::Llvm) {
     codegen::CodegenOptions cg = c.request().codegen;
     cg.sources = &c.sources();
-    Expected<std::string> text =
-        opts.emit == driver::EmitKind::Llvm
-            ? codegen::emitLlvm(*analysis.system, cg)
-            : codegen::emitC(*analysis.system, opts.emitMain, cg);
+    Expected<std::string> text = codegen::emitLlvm(*analysis.system, cg);
     if (!text)
       return reportError(c.diagnostics(), DiagId::ErrCodegenFailed,
                          text.error(), 1);

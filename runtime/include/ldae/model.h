@@ -25,7 +25,7 @@
 extern "C" {
 #endif
 
-#define LDAE_ABI_VERSION 11
+#define LDAE_ABI_VERSION 12
 
 /* r = F(t, y, y', p) */
 typedef int (*ldae_residual_fn)(double t, const double *y, const double *yp,
@@ -369,6 +369,17 @@ typedef struct ldae_model {
   int n_written;
   ldae_init_residual_fn written_residual;
   ldae_init_jacobian_fn written_jacobian;
+
+  /* ---- Modes compiled ahead (ABI 12) ----
+     A variable-structure model (n_mode > 0) run without a compiler (the
+     program of --emit c): mode_models[j] is the model of the mode whose
+     values (mode_discrete order) are mode_model_values[j * n_mode + i].
+     When an event enters a mode, the run looks it up here if it has no
+     mode provider; a mode not listed ends the run (status 3). 0 and NULL
+     when the modes are compiled as a run reaches them (ldaec). */
+  int n_mode_models;
+  const double *mode_model_values;       /* n_mode_models * n_mode */
+  const struct ldae_model *const *mode_models; /* n_mode_models */
 } ldae_model;
 
 /* Models with n <= LDAE_DENSE_THRESHOLD unknowns use the dense Jacobians

@@ -535,8 +535,15 @@ void Run::carryOver(const ModelEval &ev, double t, const std::vector<double> &y,
     carry.y[ev.varName(i)] = y[i];
     carry.yp[ev.varName(i)] = yp[i];
   }
+  // A sample's instant is over with this event: the loop sets samples back
+  // only when the mode stays (EventLoop::handle), and a sample carried as
+  // true would make its next instant no rising edge (a when-clause on
+  // sample(1, 1) that changed the mode at t = 1 missed t = 2).
   for (int k = 0; k < ev.nDiscrete(); ++k)
-    carry.discrete[ev.discreteName(k)] = ev.discrete()[k];
+    carry.discrete[ev.discreteName(k)] =
+        m.discrete_kind && m.discrete_kind[k] == LDAE_DISCRETE_SAMPLE
+            ? 0.0
+            : ev.discrete()[k];
   for (int i = 0; i < m.n_mode; ++i) {
     double v = ev.discrete()[m.mode_discrete[i]];
     carry.modeValues.push_back(v);
@@ -1105,6 +1112,18 @@ std::string tooManyRowsMessage(double start, double stop, double interval) {
                      kMaxOutputRows);
 }
 
+/// The model of the mode `values` among those compiled ahead (ABI 12).
+static Expected<const ldae_model *> compiledMode(const ldae_model &m,
+                                          const std::vector<double> &values) {
+  for (int j = 0; j < m.n_mode_models; ++j) {
+    const double *v = m.mode_model_values + size_t(j) * m.n_mode;
+    if (std::equal(values.begin(), values.end(), v, v + m.n_mode))
+      return m.mode_models[j];
+  }
+  return Error{"the program has no model of it (ldaec --emit c compiles "
+               "every mode it can analyse; this one it could not)"};
+}
+
 Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   auto wall0 = std::chrono::steady_clock::now();
   if (m.abi_version != LDAE_ABI_VERSION)
@@ -1173,20 +1192,27 @@ Expected<SimResult> simulate(const ldae_model &m, const SimOptions &o) {
   int switchesHere = 0;
   double switchTime = NAN;
   std::deque<double> recentSwitches; // times of the latest mode switches
+  // Without a compiler (the program of --emit c) the modes compiled ahead
+  // are in the model.
+  auto provider = o.modeProvider;
+  if (!provider && m.n_mode_models > 0)
+    provider = [&m](const std::vector<double> &values) {
+      return compiledMode(m, values);
+    };
   while (true) {
     auto end = run.stage(*model, p, cols, carry);
     if (!end)
       return Error{end.error()};
     if (*end == StageEnd::Done)
       break;
-    if (!o.modeProvider) {
+    if (!provider) {
       res.failure = fmt::format(
           "t = {:.10g}: the mode changed ({}) and the run has no model of the "
           "new mode (no mode provider)",
           carry.t, carry.mode);
       break;
     }
-    auto next = o.modeProvider(carry.modeValues);
+    auto next = provider(carry.modeValues);
     if (!next) {
       res.failure = fmt::format("t = {:.10g}: the model of the new mode ({}) "
                                 "cannot be built: {}",
