@@ -96,10 +96,10 @@ std::optional<std::vector<Value>> Flattener::stringCall(
     const ast::Component *returned,
     const std::map<const ast::Component *, size_t> &outOffset, size_t numOut,
     Env &fenv, SourceRange at) {
-  if (fn.impure && impureContext_ == 0) {
+  if (fn.impure && impureContext_ == 0 && firingContext_ == 0) {
     report(DiagId::ErrUnsupported, at,
            {"a call of impure function '" + fn.name +
-            "' outside a parameter's value"});
+            "' outside a parameter's value or a when-clause"});
     return std::nullopt;
   }
   std::optional<std::vector<double>> args = argumentsNow(fn, in, at);

@@ -8,6 +8,7 @@
 #include "frontend/ExternalObject.h"
 #include "frontend/Flattener.h"
 #include "ir/External.h"
+#include "ir/Query.h"
 #include "support/SourceManager.h"
 
 #include <dlfcn.h>
@@ -401,11 +402,37 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       return std::nullopt;
     }
 
+  // Run-time impure calls (FiringContext): the call site's own wrapper
+  // keeps its last inputs and outputs, and a call with the same inputs
+  // returns them without calling again, so the evaluations of one event
+  // (its iterations, the readings around it) make one call. The inputs
+  // end with the previous impure call's first output, which orders the
+  // calls as written, and the time, which makes each event's call new.
+  // A String result is a text known when compiling, so an impure function
+  // returning one is called when compiling even in a when-clause, with
+  // arguments known then (stringCall: MSL's Files.fullPathName of a file
+  // name the model gives).
+  const bool atRunTime = fn.impure && impureContext_ == 0 &&
+                         !(returned && *returnType == CType::String);
+  uint64_t site = 0;
+  if (atRunTime) {
+    site = ++impureSites_;
+    in.push_back(impureToken_ ? impureToken_ : ctx().constant(0));
+    in.push_back(ctx().time());
+  }
+
   // The wrapper: converts, calls, stores every output.
   std::vector<std::string> includes = annotationStrings(fn, "Include");
   std::ostringstream src;
   src << "#include <setjmp.h>\n#include <stdint.h>\n#include <stdlib.h>\n"
+      << "#include <string.h>\n"
       << "extern __thread jmp_buf *ldae_modelica_guard;\n";
+  const size_t outSlots = std::max<size_t>(numOut, 1);
+  if (atRunTime)
+    src << "/* run-time call site " << site << " */\n"
+        << "static __thread int memo_valid;\n"
+        << "static __thread double memo_in[" << std::max<size_t>(in.size(), 1)
+        << "], memo_out[" << outSlots << "];\n";
   for (const std::string &inc : includes)
     src << inc << "\n";
   std::string ret = returned ? cName(*returnType) : "void";
@@ -426,6 +453,10 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   {
     std::ostringstream w;
     w << "(const double *in, double *out) {\n";
+    if (atRunTime)
+      w << "  if (memo_valid && memcmp(memo_in, in, sizeof memo_in) == 0) {\n"
+        << "    memcpy(out, memo_out, sizeof memo_out);\n    return;\n  }\n"
+        << "  out[0] = 0.0;\n";
     std::string call = cFunction + "(";
     for (size_t i = 0; i < args.size(); ++i) {
       const CArg &a = args[i];
@@ -479,6 +510,9 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
       if (args[i].output)
         w << "  for (int i = 0; i < " << args[i].count << "; ++i) out["
           << args[i].offset << " + i] = (double)a" << i << "[i];\n";
+    if (atRunTime)
+      w << "  memcpy(memo_in, in, sizeof memo_in);\n"
+        << "  memcpy(memo_out, out, sizeof memo_out);\n  memo_valid = 1;\n";
     if (stringResult)
       w << "  return result;\n";
     w << "}\n";
@@ -519,13 +553,14 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   if (stringResult)
     return stringCall(fn, reinterpret_cast<ExternalStringEntry>(entry), in,
                       outputs, returned, outOffset, numOut, fenv, at);
-  if (fn.impure)
+  if (fn.impure && !atRunTime)
     return impureCall(fn, entry, in, outputs, outOffset, numOut, fenv, at);
   ir::ExternalFunction f;
   f.name = fn.name;
   f.symbol = symbol;
   f.numInputs = in.size();
-  f.numOutputs = numOut;
+  f.numOutputs = atRunTime ? outSlots : numOut;
+  f.impure = atRunTime;
   f.entry = entry;
   f.objects = std::move(objects);
   f.constructor = fn.name == "constructor" && fn.parent &&
@@ -537,10 +572,39 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     Value v = *fenv.find(c->name);
     size_t base = outOffset[c];
     for (size_t k = 0; k < v.elems.size(); ++k)
-      v.elems[k] = ctx().external(id, unsigned(base + k), in);
+      v.elems[k] = ctx().external(id, unsigned(base + k), in, site);
     results.push_back(std::move(v));
   }
+  if (atRunTime) {
+    impureToken_ = ctx().external(id, 0, in, site);
+    impureTokenSite_ = site;
+  }
   return results;
+}
+
+void Flattener::keepImpureCalls(ir::WhenClause &clause) {
+  if (!impureToken_)
+    return;
+  std::vector<ir::ExprRef> roots;
+  for (const ir::Equation &e : clause.equations)
+    roots.push_back(e.residual);
+  for (ir::ExprRef n : ir::topologicalOrder(roots))
+    if (n->kind() == ir::ExprKind::External &&
+        static_cast<uint64_t>(n->constant()) == impureTokenSite_)
+      return;
+  // A call made for what it does (a file written, its result unused): a
+  // value of the compiler's own, assigned by the clause, reads it.
+  ir::Variable v;
+  v.name = "$impure" + std::to_string(impureTokenSite_);
+  v.loc = clause.loc;
+  v.isDiscrete = v.generated = true;
+  ir::ExprRef made = ctx().var(model_->addVariable(std::move(v)));
+  ir::Equation e;
+  e.residual = ctx().sub(made, impureToken_);
+  e.loc = clause.loc;
+  e.text = "the impure calls of the when-clause";
+  clause.equations.push_back(std::move(e));
+  clause.targets.push_back(made);
 }
 
 } // namespace ldae::frontend

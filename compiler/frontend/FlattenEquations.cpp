@@ -371,13 +371,18 @@ void Flattener::flattenWhen(const ast::Equation &eq, const Scope &scope,
     EqSink body;
     body.when = &clause;
     std::optional<ImpureContext> atStart;
+    std::optional<FiringContext> firing;
     if (isInitialCall(ce))
       atStart.emplace(*this);
+    else
+      firing.emplace(*this);
     {
       WhenAssertsScope checkedWhereItFires(*this, &clause.asserts);
       for (const ast::Equation &b : eq.branches[k])
         flattenEquation(b, scope, env, body);
     }
+    if (firing)
+      keepImpureCalls(clause);
     model_->whenClauses.push_back(std::move(clause));
   }
 }

@@ -461,6 +461,27 @@ public:
     explicit ImpureContext(Flattener &f) : f(f) { ++f.impureContext_; }
     ~ImpureContext() { --f.impureContext_; }
   };
+  /// While one lives, the flattener lowers the body of a when-clause that
+  /// fires during the run: an impure function is called there at run time
+  /// (ExternalFunctions.cpp, "run-time impure calls"), each call site once
+  /// per firing, in the order written: each call reads the previous one's
+  /// first output (`impureToken_`), so none is made before it.
+  struct FiringContext {
+    Flattener &f;
+    ir::ExprRef savedToken;
+    explicit FiringContext(Flattener &f) : f(f), savedToken(f.impureToken_) {
+      ++f.firingContext_;
+      f.impureToken_ = nullptr;
+    }
+    ~FiringContext() {
+      --f.firingContext_;
+      f.impureToken_ = savedToken;
+    }
+  };
+  /// After a when-clause's body: when none of its equations reads its last
+  /// run-time impure call (a call made for what it does), adds one that
+  /// does, so the call is made where the clause fires.
+  void keepImpureCalls(ir::WhenClause &clause);
 
   /// Reports through the engine once per (diagnostic, location, text):
   /// a class instantiated many times reports its error once.
@@ -780,6 +801,10 @@ private:
   size_t instances_ = 0; // component instances created, array elements each
   bool readingBinding_ = false; // see bindingValue
   int impureContext_ = 0;        // see ImpureContext
+  int firingContext_ = 0;        // see FiringContext
+  ir::ExprRef impureToken_ = nullptr; // see FiringContext
+  uint64_t impureTokenSite_ = 0;      // the call site impureToken_ is of
+  uint64_t impureSites_ = 0;     // run-time impure call sites so far
   std::set<std::string> reported_;
   Diagnostic dropped_;
 

@@ -47,13 +47,14 @@ Flattener::inlineCall(const ast::ClassDef &fn, const ast::Expr &call,
     return std::nullopt;
   }
   // An impure function is called when compiling, where a parameter's value
-  // is computed (CompileTimeCalls.cpp); elsewhere it is refused at the call the
-  // model makes.
-  if (fn.impure && impureContext_ == 0) {
+  // is computed (CompileTimeCalls.cpp), or at run time in a when-clause
+  // (FiringContext); elsewhere it is refused at the call the model makes.
+  if (fn.impure && impureContext_ == 0 && firingContext_ == 0) {
     report(DiagId::ErrUnsupported, where,
            {"a call of impure function '" + fn.name +
-            "' outside a parameter's value (ldaec calls impure functions "
-            "once, when compiling, where a parameter's value is computed)"});
+            "' outside a parameter's value or a when-clause (ldaec calls "
+            "impure functions when compiling, where a parameter's value is "
+            "computed, and at run time where a when-clause fires)"});
     return std::nullopt;
   }
   std::optional<FunctionParts> parts = functionParts(fn, where);

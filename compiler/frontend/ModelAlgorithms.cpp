@@ -181,8 +181,11 @@ Flattener::execWhenStatement(const ast::Statement &st, const ast::ClassDef &fn,
     assignedNames(st.branches[k], assigned);
     Env branch = env;
     std::optional<ImpureContext> atStart;
+    std::optional<FiringContext> firing;
     if (isInitialCall(ce))
       atStart.emplace(*this);
+    else
+      firing.emplace(*this);
     {
       WhenAssertsScope checkedWhereItFires(*this, &clause.asserts);
       if (execStatements(st.branches[k], fn, scope, branch) != ExecResult::Ok)
@@ -211,6 +214,8 @@ Flattener::execWhenStatement(const ast::Statement &st, const ast::ClassDef &fn,
       env.set(name, *var);
       algorithmWhenTargets_->push_back(name);
     }
+    if (firing)
+      keepImpureCalls(clause);
     model_->whenClauses.push_back(std::move(clause));
   }
   return ExecResult::Ok;

@@ -221,6 +221,9 @@ private:
       const ExternalFunction &f = externalFunction(e->externalId());
       if (!f.entry)
         return fail(e, "cannot evaluate: '" + f.name + "' is not loaded");
+      // Made only where the run fires its when-clause.
+      if (f.impure)
+        return fail(e, "'" + f.name + "' is impure: called during the run");
       double r = callExternal(e->externalId(), in.data(), e->externalOutput());
       if (std::isnan(r)) {
         std::string error = takeModelicaError();

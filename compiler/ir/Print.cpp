@@ -185,7 +185,12 @@ private:
       out_ += f.name;
       if (f.numOutputs > 1)
         out_ += "[" + std::to_string(e->externalOutput() + 1) + "]";
-      emitArguments(e);
+      // A run-time impure call's last two inputs (the previous impure
+      // call, the time: frontend/ExternalFunctions.cpp) are ldaec's, not
+      // the model's; printed, each call would repeat every earlier one.
+      emitArguments(e, f.impure && e->numOperands() >= 2
+                           ? e->numOperands() - 2
+                           : e->numOperands());
       return;
     }
     case ExprKind::If:
@@ -279,9 +284,11 @@ private:
   }
 
   /// `(a, b, ...)`: a call's operands.
-  void emitArguments(ExprRef e) {
+  void emitArguments(ExprRef e) { emitArguments(e, e->numOperands()); }
+  /// The first `count` operands of `e` as an argument list.
+  void emitArguments(ExprRef e, unsigned count) {
     out_ += '(';
-    for (unsigned i = 0; i < e->numOperands(); ++i) {
+    for (unsigned i = 0; i < count; ++i) {
       if (i)
         out_ += ", ";
       print(e->operand(i), PrecIf, Ctx::Numeric);

@@ -418,15 +418,15 @@ void EventBuilder::derivativesOutsideEquations() {
 void EventBuilder::stepFunctionEvents() {
   // Initial equations (and initial algorithms) are evaluated once, at the
   // start: their step functions need no events and keep their argument.
+  // So is a when-clause's body, at the events that fire it (MLS 8.5: no
+  // crossing functions there): MSL's impureRandomInteger takes integer()
+  // of a random number its when-clause draws.
   std::vector<ir::ExprRef> roots;
   for (const ir::Equation &e : m_.equations)
     roots.push_back(e.residual);
-  for (const ir::WhenClause &w : m_.whenClauses) {
-    for (const ir::Equation &e : w.equations)
-      roots.push_back(e.residual);
+  for (const ir::WhenClause &w : m_.whenClauses)
     for (ir::ExprRef c : conditionsOf(w))
       roots.push_back(c);
-  }
   ir::Substitution stepOf(ctx_);
   std::vector<ir::WhenClause> clauses;
   ir::ExprRef initial = nullptr;
