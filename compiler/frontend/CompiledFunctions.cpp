@@ -1164,6 +1164,8 @@ Flattener::compiledCall(const ast::ClassDef &fn, const FunctionParts &parts,
     f.numOutputs += countOf(s);
   f.entry = entry;
   f.objects = {loaded->path};
+  if (!externalCallFits(fn, f, at))
+    return std::nullopt;
   uint32_t id = ir::registerExternal(f);
   std::vector<Value> results;
   unsigned base = 0;

@@ -565,6 +565,8 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
   f.objects = std::move(objects);
   f.constructor = fn.name == "constructor" && fn.parent &&
                   isExternalObject(*fn.parent);
+  if (!externalCallFits(fn, f, at))
+    return std::nullopt;
   uint32_t id = ir::registerExternal(f);
 
   std::vector<Value> results;
@@ -580,6 +582,23 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     impureTokenSite_ = site;
   }
   return results;
+}
+
+bool Flattener::externalCallFits(const ast::ClassDef &fn,
+                                 const ir::ExternalFunction &f,
+                                 SourceRange at) {
+  // Each output is a node of its own reading every input, and the code
+  // generators call the function once per output: MSL's realFFT of a
+  // 5000-sample buffer to 400 amplitudes took more than 12 GB to compile.
+  constexpr double kMaxWork = 1e6;
+  if (double(f.numInputs) * double(f.numOutputs) <= kMaxWork)
+    return true;
+  report(DiagId::ErrUnsupported, at,
+         {"a call of '" + fn.name + "' with " + std::to_string(f.numInputs) +
+          " inputs and " + std::to_string(f.numOutputs) +
+          " outputs (ldaec calls external code once per output, and refuses "
+          "more than 10^6 inputs times outputs)"});
+  return false;
 }
 
 void Flattener::keepImpureCalls(ir::WhenClause &clause) {

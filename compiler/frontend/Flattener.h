@@ -478,6 +478,10 @@ public:
       f.impureToken_ = savedToken;
     }
   };
+  /// Whether a call of `fn` (its entry `f`) is small enough to compile;
+  /// else an error at `at`.
+  bool externalCallFits(const ast::ClassDef &fn, const ir::ExternalFunction &f,
+                        SourceRange at);
   /// After a when-clause's body: when none of its equations reads its last
   /// run-time impure call (a call made for what it does), adds one that
   /// does, so the call is made where the clause fires.

@@ -42,6 +42,20 @@ void assignedNames(const std::vector<ast::Statement> &list,
     assignedNames(st, out);
 }
 
+/// The names the when-statements of `list` (at its top level, MLS 11.2.7)
+/// assign: discrete-time whatever their type.
+std::vector<std::string> whenAssignedNames(
+    const std::vector<ast::Statement> &list) {
+  std::vector<const ast::Expr *> targets;
+  for (const ast::Statement &st : list)
+    if (st.kind == ast::StatementKind::When)
+      assignedNames(st, targets);
+  std::vector<std::string> names;
+  for (const ast::Expr *t : targets)
+    names.push_back(t->parts[0].name);
+  return names;
+}
+
 /// The variable an assignment target names, whatever its subscripts.
 ast::ExprPtr wholeVariable(const ast::Expr &target) {
   auto whole = std::make_unique<ast::Expr>();
@@ -83,9 +97,12 @@ void Flattener::flattenAlgorithm(const std::vector<ast::Statement> &section,
   std::vector<const ast::Expr *> targets;
   assignedNames(section, targets);
   // The assigned variables as locals: their current values (a discrete
-  // variable's pre()) or unassigned.
+  // variable's pre(), as a Real's that a when-statement assigns: a branch
+  // that does not assign an element, `buf[i] := u` with i known at run
+  // time, keeps it) or unassigned.
   Env env;
   std::vector<Value> variables;
+  const std::vector<std::string> inWhen = whenAssignedNames(section);
   for (const ast::Expr *t : targets) {
     if (t->parts.size() != 1) {
       report(DiagId::ErrUnsupported, SourceRange{t->loc, t->length},
@@ -96,9 +113,13 @@ void Flattener::flattenAlgorithm(const std::vector<ast::Statement> &section,
     if (!v)
       return;
     Value start = *v;
+    const bool assignedInWhen =
+        std::find(inWhen.begin(), inWhen.end(), t->parts[0].name) !=
+        inWhen.end();
     for (ir::ExprRef &e : start.elems) {
       bool discrete = e && e->kind() == ir::ExprKind::Variable &&
-                      model_->variables[e->var()].isDiscrete;
+                      (model_->variables[e->var()].isDiscrete ||
+                       assignedInWhen);
       e = discrete ? ctx().pre(e->var()) : nullptr;
     }
     env.set(t->parts[0].name, std::move(start));
