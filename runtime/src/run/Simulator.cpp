@@ -186,6 +186,12 @@ constexpr int kMaxModeSwitchesAtOnce = 100;
 /// is one step). SUNDIALS' own default is 500 per output.
 constexpr long kMaxStepsPerOutput = 100000;
 
+/// The most jumps past a fold between two output times: each restarts the
+/// step count, so a relaxation oscillation far faster than the output
+/// interval (a fuzzer's op-amp multivibrator with R multiplied instead of
+/// divided, a period of 5e-8 s) would otherwise jump for ever.
+constexpr long kMaxFoldJumpsPerOutput = 1000;
+
 /// The initializer's target (Initializer.h): the integrator, its failures
 /// in the run's report.
 class IntegratorInitTarget : public InitTarget {
@@ -834,6 +840,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   int tinySteps = 0; // consecutive steps at round-off level
   double lastH = 0;  // the last step's size
   long stepsSinceOutput = 0;
+  long foldJumpsSinceOutput = 0;
   std::vector<double> yAt(n), ypAt(n), cond;
   // The grid rows up to `tEnd` (where the solution is yEnd, ypEnd), from
   // the last step's polynomial; false (with the failure) when one cannot
@@ -841,7 +848,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
   auto recordGridUpTo = [&](double tEnd, const double *yEnd,
                             const double *ypEnd) {
     for (; k_ <= nOut_ && gridTime(k_) <= tEnd; ++k_) {
-      stepsSinceOutput = 0;
+      stepsSinceOutput = foldJumpsSinceOutput = 0;
       double tk = gridTime(k_);
       if (o_.everyStep)
         continue;
@@ -951,6 +958,18 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
         return false;
       watch.restarted(t, yt.data(), ypt.data());
       stepsSinceOutput = 0;
+      if (++foldJumpsSinceOutput > kMaxFoldJumpsPerOutput) {
+        res_.failure = describeFailure(
+            ev, integrator,
+            StepStatus::failed(
+                FailureKind::TooMuchWork,
+                fmt::format("more than {} jumps past a fold of the algebraic "
+                            "equations between output times (an oscillation "
+                            "far faster than the output interval)",
+                            kMaxFoldJumpsPerOutput)),
+            t);
+        return false;
+      }
       return aimAtNextEvent();
     }
     return false;
@@ -993,7 +1012,7 @@ Expected<StageEnd> Run::stage(const ldae_model &m,
     // output times is not the default grid's (--stop 8e6 --every-step ran
     // into it at t = 12279).
     if (o_.everyStep)
-      stepsSinceOutput = 0;
+      stepsSinceOutput = foldJumpsSinceOutput = 0;
     bool timeEvent = st.kind == StepStatus::StopReached && t >= nextEvent;
     bool rootEvent = st.kind == StepStatus::Root && events.handlesRoots();
     bool forced = false; // a crossing ignored as round-off was real
