@@ -413,12 +413,17 @@ void printFunction(std::ostream &os, const CodePlan &plan,
 /// load order, so the first occurrences of all of them are in load order.
 std::string linkedObjects(const std::vector<const CodePlan *> &plans) {
   std::vector<std::string> loadOrder;
-  for (const CodePlan *plan : plans)
+  auto add = [&](const PlanExternal &x) {
+    for (const std::string &o : x.objects)
+      if (std::find(loadOrder.begin(), loadOrder.end(), o) == loadOrder.end())
+        loadOrder.push_back(o);
+  };
+  for (const CodePlan *plan : plans) {
+    for (const CodePlan::Replay &r : plan->replays)
+      add(r.external);
     for (const PlanExternal &x : plan->externals)
-      for (const std::string &o : x.objects)
-        if (std::find(loadOrder.begin(), loadOrder.end(), o) ==
-            loadOrder.end())
-          loadOrder.push_back(o);
+      add(x);
+  }
   std::string list;
   for (auto it = loadOrder.rbegin(); it != loadOrder.rend(); ++it)
     list += " " + *it;
@@ -437,18 +442,25 @@ std::string mainCompileCommand(const std::vector<const CodePlan *> &plans) {
 /// The external functions' declarations (their wrappers' one signature).
 void printExternalDeclarations(std::ostream &os, const CodePlan &plan) {
   std::vector<std::string> seen;
-  for (const PlanExternal &x : plan.externals)
+  auto declare = [&](const PlanExternal &x) {
     if (std::find(seen.begin(), seen.end(), x.symbol) == seen.end()) {
       seen.push_back(x.symbol);
       os << "void " << x.symbol << "(const double *in, double *out);\n";
     }
+  };
+  for (const CodePlan::Replay &r : plan.replays)
+    declare(r.external);
+  for (const PlanExternal &x : plan.externals)
+    declare(x);
   if (!seen.empty())
     os << "\n";
 }
 
-/// `int <sym>_make_objects(void)`: calls the constructors of the model's
+/// `int <sym>_make_objects(void)`: makes again the impure calls made when
+/// compiling (CodePlan::replays, for their effects on the C code's state:
+/// a random generator's seed), then calls the constructors of the model's
 /// external objects (CodePlan::objects) over the parameters and stores the
-/// handles among them; 0, or 1 + the object that failed (its message on
+/// handles among them; 0, or nonzero when a call failed (its message on
 /// stderr). A handle is a pointer of the process that made it, so the
 /// compiled values are replaced before the model is used. The models of
 /// the modes compiled ahead (`modes`, their symbols) get the same handles:
@@ -456,29 +468,49 @@ void printExternalDeclarations(std::ostream &os, const CodePlan &plan) {
 void printMakeObjects(std::ostream &os, const CodePlan &plan,
                       const std::vector<std::string> &modes) {
   const std::string &s = plan.symbolName;
-  printArray(os, "int", s + "_object_params", plan.objectParams,
-             [](int v) { return std::to_string(v); });
+  const bool objects = plan.objects >= 0;
+  if (objects)
+    printArray(os, "int", s + "_object_params", plan.objectParams,
+               [](int v) { return std::to_string(v); });
   os << "const char *ldae_modelica_take_error(void);\n\n"
-     << "int " << s << "_make_objects(void) {\n"
-     << "  double made[" << plan.objectParams.size() << "];\n"
-     << "  int j, rc = " << functionSymbol(plan, plan.functions[plan.objects])
-     << "(0.0, " << s << "_start_y, " << s << "_start_yp, " << s
-     << "_param_values, made);\n"
-     << "  if (rc != 0) {\n"
-     << "    const char *why = ldae_modelica_take_error();\n"
-     << "    fprintf(stderr, \"error: the external object '%s' could not be "
-        "made%s%s\\n\",\n"
-     << "            " << s << "_param_names[" << s
-     << "_object_params[rc > 0 ? rc - 1 : 0]], why ? \": \" : \"\", why ? "
-        "why : \"\");\n"
-     << "    return rc > 0 ? rc : 1;\n  }\n"
-     << "  for (j = 0; j < " << plan.objectParams.size() << "; ++j) {\n"
-     << "    " << s << "_param_values[" << s << "_object_params[j]] = made[j];\n";
-  for (const std::string &m : modes)
-    os << "    " << m << "_param_values[" << s
+     << "int " << s << "_make_objects(void) {\n";
+  for (const CodePlan::Replay &r : plan.replays) {
+    os << "  {\n    double in[" << std::max<size_t>(1, r.inputs.size())
+       << "] = {";
+    for (size_t k = 0; k < r.inputs.size(); ++k)
+      os << (k ? ", " : "") << number(r.inputs[k]);
+    if (r.inputs.empty())
+      os << "0.0";
+    os << "};\n    double out[" << std::max(1u, r.external.numOutputs)
+       << "];\n    const char *why;\n"
+       << "    " << r.external.symbol << "(in, out);\n"
+       << "    if ((why = ldae_modelica_take_error()) != 0) {\n"
+       << "      fprintf(stderr, \"error: a call made when compiling failed "
+          "when made again: %s\\n\", why);\n"
+       << "      return 1;\n    }\n  }\n";
+  }
+  if (objects) {
+    os << "  double made[" << plan.objectParams.size() << "];\n"
+       << "  int j, rc = "
+       << functionSymbol(plan, plan.functions[plan.objects]) << "(0.0, " << s
+       << "_start_y, " << s << "_start_yp, " << s << "_param_values, made);\n"
+       << "  if (rc != 0) {\n"
+       << "    const char *why = ldae_modelica_take_error();\n"
+       << "    fprintf(stderr, \"error: the external object '%s' could not be "
+          "made%s%s\\n\",\n"
+       << "            " << s << "_param_names[" << s
+       << "_object_params[rc > 0 ? rc - 1 : 0]], why ? \": \" : \"\", why ? "
+          "why : \"\");\n"
+       << "    return rc > 0 ? rc : 1;\n  }\n"
+       << "  for (j = 0; j < " << plan.objectParams.size() << "; ++j) {\n"
+       << "    " << s << "_param_values[" << s
        << "_object_params[j]] = made[j];\n";
-  os << "  }\n"
-     << "  return 0;\n}\n\n";
+    for (const std::string &m : modes)
+      os << "    " << m << "_param_values[" << s
+         << "_object_params[j]] = made[j];\n";
+    os << "  }\n";
+  }
+  os << "  return 0;\n}\n\n";
 }
 
 template <typename T, typename F>
@@ -636,7 +668,7 @@ void printModel(std::ostream &os, const CodePlan &plan,
   // The handles of external objects are stored at run time.
   printArray(os, "double", s + "_param_values", plan.paramValues, dbl,
              objects ? "static " : "static const ");
-  if (objects && makesObjects)
+  if ((objects || !plan.replays.empty()) && makesObjects)
     printMakeObjects(os, plan, modes);
   printArray(os, "char *const", s + "_output_names", plan.outputNames, str);
   if (!plan.residualOrigin.empty())
@@ -752,7 +784,9 @@ std::string printC(const CodePlan &plan, bool withMain,
   plans.push_back(&plan);
   os << "/* Generated by ldaec from model " << quote(plan.name)
      << ": the C ABI of ldae/model.h";
-  const bool objects = plan.objects >= 0;
+  // make_objects: external objects to make, or compile-time calls to make
+  // again.
+  const bool objects = plan.objects >= 0 || !plan.replays.empty();
   if (withMain)
     os << ",\n   and a main that runs it with the ldaec runtime (ldae/run.h, "
           "libldaert).\n   Compile (docs/embedding-c.md):\n     "

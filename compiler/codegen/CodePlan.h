@@ -303,6 +303,14 @@ struct CodePlan {
   int objects = -1;
   std::vector<int> objectParams;
   std::string unmadeObject;
+  /// The impure calls made when compiling (ir::Model::compileTimeCalls),
+  /// made again by such a program before its objects, for their effects
+  /// on the C code's state.
+  struct Replay {
+    PlanExternal external; // symbol, objects, outputs
+    std::vector<double> inputs;
+  };
+  std::vector<Replay> replays;
 
   EventPlan events;
 

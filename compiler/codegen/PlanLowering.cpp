@@ -1042,6 +1042,15 @@ Expected<CodePlan> lowerToPlan(const ir::DaeSystem &sys,
     plan.bind = valuesFunction("bind", values, keys);
   if (std::vector<ExprRef> calls = planObjects(sys, plan); !calls.empty())
     plan.objects = valuesFunction("objects", calls, keys);
+  if (sys.model)
+    for (const ir::Model::CompileTimeCall &c : sys.model->compileTimeCalls) {
+      PlanExternal x;
+      x.symbol = c.symbol;
+      x.numInputs = unsigned(c.inputs.size());
+      x.numOutputs = c.outputs;
+      x.objects = c.objects;
+      plan.replays.push_back({std::move(x), c.inputs});
+    }
 
   if (!error.empty())
     return Error{error};

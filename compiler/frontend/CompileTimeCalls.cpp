@@ -75,6 +75,7 @@ bool Flattener::succeeded(const ast::ClassDef &fn, SourceRange at) {
 
 std::optional<std::vector<Value>> Flattener::impureCall(
     const ast::ClassDef &fn, ir::ExternalEntry entry,
+    ir::Model::CompileTimeCall made,
     const std::vector<ir::ExprRef> &in,
     const std::vector<const ast::Component *> &outputs,
     const std::map<const ast::Component *, size_t> &outOffset, size_t numOut,
@@ -86,6 +87,9 @@ std::optional<std::vector<Value>> Flattener::impureCall(
   entry(args->data(), out.data());
   if (!succeeded(fn, at))
     return std::nullopt;
+  made.inputs = *args;
+  made.outputs = unsigned(out.size());
+  model_->compileTimeCalls.push_back(std::move(made));
   return constantOutputs(outputs, outOffset, out, fenv);
 }
 

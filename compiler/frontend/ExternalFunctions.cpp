@@ -554,7 +554,8 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     return stringCall(fn, reinterpret_cast<ExternalStringEntry>(entry), in,
                       outputs, returned, outOffset, numOut, fenv, at);
   if (fn.impure && !atRunTime)
-    return impureCall(fn, entry, in, outputs, outOffset, numOut, fenv, at);
+    return impureCall(fn, entry, {symbol, objects, {}, 0}, in, outputs,
+                      outOffset, numOut, fenv, at);
   ir::ExternalFunction f;
   f.name = fn.name;
   f.symbol = symbol;

@@ -424,9 +424,11 @@ public:
   // ----- CompileTimeCalls.cpp
   /// A call of impure external function `fn` (wrapper `entry`, inputs
   /// `in`): made once, now, where a parameter's value is computed (see
-  /// ImpureContext); its outputs are constants.
+  /// ImpureContext); its outputs are constants. `made` (the wrapper's
+  /// symbol and objects) is recorded with the inputs in the model.
   std::optional<std::vector<Value>>
   impureCall(const ast::ClassDef &fn, ir::ExternalEntry entry,
+             ir::Model::CompileTimeCall made,
              const std::vector<ir::ExprRef> &in,
              const std::vector<const ast::Component *> &outputs,
              const std::map<const ast::Component *, size_t> &outOffset,

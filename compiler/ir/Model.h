@@ -181,6 +181,18 @@ public:
   /// lowered to: (actual, simplified), for printing the flat model.
   std::unordered_map<ExprRef, std::pair<ExprRef, ExprRef>> homotopies;
   Experiment experiment;
+  /// The impure external calls made when compiling (a parameter's value,
+  /// under initial() alone), in the order made: their effects on the C
+  /// code's own state (MSL's initializeImpureRandom seeds the generator
+  /// impureRandom draws from) are made again by a program of its own
+  /// (--emit c) before it runs.
+  struct CompileTimeCall {
+    std::string symbol;               // the wrapper (ir/External.h)
+    std::vector<std::string> objects; // as ExternalFunction::objects
+    std::vector<double> inputs;
+    unsigned outputs = 0;
+  };
+  std::vector<CompileTimeCall> compileTimeCalls;
 
   VarId addVariable(Variable v);
   ParamId addParameter(Parameter p);
