@@ -178,6 +178,8 @@ struct AnalysisResult {
   InitReport init;
   /// The SGA's verdict (the "sga" pass), when it ran.
   std::optional<SgaReport> sga;
+  /// Why sga is empty when the pass did not run it ("" when it ran).
+  std::string sgaNote;
   /// Wong sequences of the linear model, when it is linear.
   std::optional<LinearReport> linear;
   /// Le Vey's formal index of the system as written (seed 004).

@@ -212,6 +212,8 @@ void printAnalysis(const AnalysisResult &r, std::ostream &out) {
     printEvents(*r.events, out);
   if (r.sga)
     printSga(*r.sga, out);
+  else if (!r.sgaNote.empty())
+    out << "  geometric algorithm:  not run (" << r.sgaNote << ")\n";
   if (r.linear)
     printLinear(*r.linear, out);
   if (r.sga && r.sga->outcome != SgaReport::Outcome::Unique)
@@ -356,6 +358,8 @@ nlohmann::json analysisToJson(const AnalysisResult &r) {
     j["constraints"] = nullptr;
     j["free_functions"] = nullptr;
   }
+  j["sga_not_run"] = r.sga || r.sgaNote.empty() ? nlohmann::json(nullptr)
+                                                : nlohmann::json(r.sgaNote);
   j["linear"] = r.linear ? linearJson(*r.linear) : nlohmann::json(nullptr);
   return j;
 }

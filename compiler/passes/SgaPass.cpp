@@ -191,8 +191,11 @@ private:
 bool SgaPass::runOn(PassContext &ctx, const EventResult &ev, SgaResult &out,
                     ir::DaeSystem &sys) {
   out.input = sgaInput(ctx.model);
-  if (out.input.unknowns.empty())
-    return equationsWithoutUnknownsHold(ctx, out);
+  if (out.input.unknowns.empty()) {
+    bool ok = equationsWithoutUnknownsHold(ctx, out);
+    ctx.report.sgaNote = out.skipped;
+    return ok;
+  }
   // The sampling evaluates the equations at points a run never reaches,
   // and C code may not survive them: MSL's CombiTimeTable read before its
   // first getNextTimeEvent indexes an interval table it has not built
@@ -201,6 +204,7 @@ bool SgaPass::runOn(PassContext &ctx, const EventResult &ev, SgaResult &out,
     out.skipped = "the model calls the external function '" + c +
                   "' at values of its unknowns, and C code is called only at "
                   "points a run reaches";
+    ctx.report.sgaNote = out.skipped;
     return true;
   }
   size_t slots = 0;
@@ -210,11 +214,14 @@ bool SgaPass::runOn(PassContext &ctx, const EventResult &ev, SgaResult &out,
     out.skipped = "the model has " + std::to_string(slots) +
                   " coordinates, above the cross-check's limit of " +
                   std::to_string(kSgaCrossCheckLimit);
+    ctx.report.sgaNote = out.skipped;
     return true;
   }
   runSga(ctx, out);
-  if (!out.ran)
+  if (!out.ran) {
+    ctx.report.sgaNote = out.skipped;
     return true;
+  }
   ctx.report.sga = toReport(ctx, out);
   // The differentiation index is the number of constraint generations:
   // each was found by differentiating the one before (docs/indices.md).
