@@ -487,10 +487,12 @@ Flattener::externalCall(const ast::ClassDef &fn, Env &fenv) {
     }
     call += ")";
     // A ModelicaError in the call jumps back here (ModelicaUtilitiesSource):
-    // every output NaN, the message kept for the report.
+    // every output NaN, the message kept for the report; a call without
+    // outputs too (its one slot, which a run-time impure call's successor
+    // reads: a failed removeFile is no success).
     w << "  jmp_buf guard;\n  jmp_buf *outer = ldae_modelica_guard;\n"
       << "  if (setjmp(guard)) {\n    ldae_modelica_guard = outer;\n"
-      << "    for (int i = 0; i < " << numOut
+      << "    for (int i = 0; i < " << outSlots
       << "; ++i) out[i] = 0.0 / 0.0;\n    return"
       << (stringResult ? " 0" : "") << ";\n  }\n"
       << "  ldae_modelica_guard = &guard;\n";
