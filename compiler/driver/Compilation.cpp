@@ -5,7 +5,6 @@
 
 #include "frontend/Frontend.h"
 #include "ir/External.h"
-#include "ir/Query.h"
 
 #include <chrono>
 #include <cstdlib>
